@@ -1,0 +1,44 @@
+#pragma once
+// The entry point: points in, exact Delaunay triangulation out.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "expanse/mesh.hpp"
+#include "expanse/options.hpp"
+#include "expanse/types.hpp"
+
+namespace expanse {
+
+/// Delaunay triangulation of `points`, identical triangle for triangle to CGAL's
+/// Delaunay_triangulation_2 (its symbolic perturbation breaks cocircular ties).
+/// Preconditions: coordinates finite (NaN/Inf -> Error(invalid_input) naming the point);
+/// at most 2^31 - 1 points. Duplicates are merged, not rejected. Fewer than three distinct
+/// sites, or all collinear, give no triangles and the hull only.
+/// Throws Error(backend_unavailable) if the requested backend is not compiled in or has no
+/// device, Error(too_large) if the input exceeds the device's limits.
+Mesh triangulate(std::span<const Point2> points, const Options& options = {});
+
+/// One device a backend can run on.
+struct DeviceDescription {
+  int index = 0;
+  std::string name;
+  std::string type;     ///< "cpu", "discrete", "integrated", "virtual", "software"
+  bool fp64 = false;
+  std::string details;  ///< limits worth knowing (subgroup size, max buffer range, memory)
+};
+
+struct BackendDescription {
+  BackendKind kind = BackendKind::cpu;
+  bool compiled = false;     ///< built into this binary
+  std::string unavailable;   ///< why no device is usable, when compiled but unusable
+  std::vector<DeviceDescription> devices;
+};
+
+/// Every backend Expanse knows, whether compiled in, and the devices each one sees.
+std::vector<BackendDescription> describe_backends();
+
+/// The backend BackendKind::automatic resolves to on this machine (cuda, then vulkan, then cpu).
+BackendKind default_backend();
+
+}  // namespace expanse

@@ -1,0 +1,27 @@
+#pragma once
+// Convex hull of the sites, known before any growth: hull edges have no apex, so no search
+// ever looks for one.
+#include <cstdint>
+#include <vector>
+
+#include "input/site_set.hpp"
+
+namespace expanse::detail {
+
+struct Hull {
+  /// Sites on the hull, counter-clockwise, collinear hull sites included. When every site lies
+  /// on one line (collinear == true): all sites sorted along the line.
+  std::vector<std::int32_t> sites;
+  bool collinear = false;
+  /// predecessor[s]: the hull site before s in CCW order, or -1 when s is not on the hull.
+  std::vector<std::int32_t> predecessor;
+
+  /// True for the directed edge a->b that has no site on its left, i.e. a hull edge walked
+  /// clockwise (b == predecessor[a]). Such an edge never has an apex.
+  bool is_outer_edge(std::int32_t a, std::int32_t b) const { return predecessor[a] == b; }
+};
+
+/// Exact convex hull (monotone chain with exact orientation).
+Hull convex_hull(const SiteSet& sites);
+
+}  // namespace expanse::detail

@@ -1,0 +1,33 @@
+#pragma once
+// Validated, normalised, duplicate-free input: what every backend and the seam stage work on.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "expanse/types.hpp"
+
+namespace expanse::detail {
+
+struct Box {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+
+struct SiteSet {
+  /// Distinct sites, in order of first occurrence, multiplied by 2^scale_exponent (exact).
+  std::vector<Point2> points;
+  /// site -> input index of the point it represents (its first occurrence).
+  std::vector<std::int32_t> input_index;
+  /// input index -> input index of its representative.
+  std::vector<std::int32_t> representative;
+  /// Power of two the input was scaled by, so that the largest |coordinate| lies in [0.5, 1).
+  int scale_exponent = 0;
+  Box bounds;  ///< of the scaled sites
+
+  std::int32_t size() const { return static_cast<std::int32_t>(points.size()); }
+};
+
+/// Validates (NaN/Inf -> Error(invalid_input) naming the input index), scales by a power of
+/// two, merges exact duplicates. Throws Error(too_large) above 2^31 - 1 points.
+SiteSet prepare_sites(std::span<const Point2> input);
+
+}  // namespace expanse::detail
