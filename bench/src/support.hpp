@@ -1,0 +1,39 @@
+#pragma once
+// What every benchmark record carries besides its times: where, when, on which commit.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace bench {
+
+/// Median, min and max of repeated measurements. Medians because a shared machine adds
+/// one-sided noise (other jobs only ever make a run slower).
+struct Summary {
+  double median = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+};
+Summary summarize(std::vector<double> samples);
+nlohmann::json to_json(const Summary& s);
+
+/// Host name, CPU model, logical cores, memory, compiler: enough to tell machines apart.
+nlohmann::json machine_info();
+
+/// The 1-, 5- and 15-minute load averages: the records say how busy the machine was.
+std::vector<double> load_average();
+
+/// The commit measured: $EXPANSE_COMMIT if set, else `git rev-parse` in the source tree at run
+/// time (with "-dirty" when tracked files differ), else the commit seen at configure time.
+std::string git_commit();
+
+/// UTC date and time, ISO 8601.
+std::string utc_now();
+
+/// Parses "1000", "1e6", "2^20", "4096^2" into a count.
+std::size_t parse_count(const std::string& text);
+
+/// Splits "a,b,c" (empty items dropped).
+std::vector<std::string> split_list(const std::string& text);
+
+}  // namespace bench
