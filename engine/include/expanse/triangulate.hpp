@@ -1,5 +1,6 @@
 #pragma once
 // The entry point: points in, exact Delaunay triangulation out.
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,5 +41,31 @@ std::vector<BackendDescription> describe_backends();
 
 /// The backend BackendKind::automatic resolves to on this machine (cuda, then vulkan, then cpu).
 BackendKind default_backend();
+
+}  // namespace expanse
+
+namespace expanse {
+
+/// Keeps a backend (and its device, pipelines, buffers) alive across calls: what a caller that
+/// triangulates repeatedly wants. Not thread-safe; one per thread.
+class Triangulator {
+ public:
+  /// Throws like triangulate() when the requested backend is unavailable.
+  explicit Triangulator(const Options& options = {});
+  ~Triangulator();
+  Triangulator(Triangulator&&) noexcept;
+  Triangulator& operator=(Triangulator&&) noexcept;
+  Triangulator(const Triangulator&) = delete;
+  Triangulator& operator=(const Triangulator&) = delete;
+
+  /// Same contract as the free function triangulate().
+  Mesh triangulate(std::span<const Point2> points);
+  /// The backend this triangulator resolved to (never automatic).
+  BackendKind backend() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace expanse

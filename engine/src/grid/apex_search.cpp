@@ -1,0 +1,237 @@
+#include "grid/apex_search.hpp"
+
+#include <gmp.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "predicates/predicates.hpp"
+
+namespace expanse::detail {
+namespace {
+
+constexpr double eps = DBL_EPSILON / 2;  // unit roundoff
+constexpr QuantBox full_domain{0, 0, BucketTree::quant_max, BucketTree::quant_max};
+
+int exact_compare_squared_distance(const Point2& q, const Point2& p1, const Point2& p2) {
+  // (p1 - p2) . (p1 + p2 - 2q), in rationals: doubles convert to mpq exactly.
+  mpq_t t[6], acc, tmp;
+  const double values[6] = {q.x, q.y, p1.x, p1.y, p2.x, p2.y};
+  for (int i = 0; i < 6; ++i) {
+    mpq_init(t[i]);
+    mpq_set_d(t[i], values[i]);
+  }
+  mpq_init(acc);
+  mpq_init(tmp);
+  auto term = [&](int q_i, int p1_i, int p2_i) {
+    mpq_t diff, sum;
+    mpq_init(diff);
+    mpq_init(sum);
+    mpq_sub(diff, t[p1_i], t[p2_i]);
+    mpq_add(sum, t[p1_i], t[p2_i]);
+    mpq_sub(sum, sum, t[q_i]);
+    mpq_sub(sum, sum, t[q_i]);
+    mpq_mul(diff, diff, sum);
+    mpq_add(acc, acc, diff);
+    mpq_clear(diff);
+    mpq_clear(sum);
+  };
+  term(0, 2, 4);
+  term(1, 3, 5);
+  const int sign = mpq_sgn(acc);
+  for (auto& v : t) mpq_clear(v);
+  mpq_clear(acc);
+  mpq_clear(tmp);
+  return sign;
+}
+
+}  // namespace
+
+int compare_squared_distance(const Point2& q, const Point2& p1, const Point2& p2) {
+  const double ax = p1.x - q.x, ay = p1.y - q.y, bx = p2.x - q.x, by = p2.y - q.y;
+  const double d1 = ax * ax + ay * ay, d2 = bx * bx + by * by;
+  const double diff = d1 - d2;
+  // Each squared distance carries a relative error below 4 eps (two subtractions, two squares,
+  // one sum); 10 eps covers both plus the final subtraction.
+  const double bound = 10 * eps * (d1 + d2);
+  if (std::isfinite(diff) && std::fabs(diff) > bound && (d1 + d2) > 0x1p-900) {
+    return diff > 0 ? 1 : -1;
+  }
+  return exact_compare_squared_distance(q, p1, p2);
+}
+
+QuantBox ApexSearch::square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const {
+  const auto lo = [&](std::uint32_t c) {
+    return static_cast<std::uint32_t>(c > half ? c - half : 0);
+  };
+  const auto hi = [&](std::uint32_t c) {
+    return static_cast<std::uint32_t>(std::min<std::uint64_t>(std::uint64_t{c} + half, BucketTree::quant_max));
+  };
+  return {lo(qx), lo(qy), hi(qx), hi(qy)};
+}
+
+bool ApexSearch::entirely_right(const QuantBox& box, const Point2& a, const Point2& b) const {
+  // cross(b - a, p - a) is linear in p: its maximum over the box is at one corner. The box is
+  // widened by a quantum each way so rounding in the quantisation cannot matter.
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double q = tree_.quantum();
+  const double x = dy < 0 ? tree_.real_x(static_cast<double>(box.x1) + 1) + q
+                          : tree_.real_x(static_cast<double>(box.x0)) - q;
+  const double y = dx > 0 ? tree_.real_y(static_cast<double>(box.y1) + 1) + q
+                          : tree_.real_y(static_cast<double>(box.y0)) - q;
+  const double px = x - a.x, py = y - a.y;
+  const double cross = dx * py - dy * px;
+  const double tolerance = 1e-9 * (std::fabs(dx) + std::fabs(dy)) * (std::fabs(px) + std::fabs(py));
+  return cross < -tolerance;
+}
+
+QuantBox ApexSearch::left_region_box(const Point2& a, const Point2& b, const Point2& c) const {
+  // Circumcentre relative to a, with a forward error bound on each quantity: the box must hold
+  // circle(a, b, c) ∩ left half-plane however the rounding fell.
+  const double dx = b.x - a.x, dy = b.y - a.y, ex = c.x - a.x, ey = c.y - a.y;
+  const double d2 = dx * dx + dy * dy, e2 = ex * ex + ey * ey;
+  const double den = 2 * (dx * ey - dy * ex);
+  const double den_error = 16 * eps * 2 * (std::fabs(dx * ey) + std::fabs(dy * ex));
+  if (!(den - den_error > 0) || !std::isfinite(den)) return full_domain;
+  const double ux = (ey * d2 - dy * e2) / den;
+  const double uy = (dx * e2 - ex * d2) / den;
+  const double ux_error =
+      (16 * eps * (std::fabs(ey) * d2 + std::fabs(dy) * e2) + std::fabs(ux) * den_error) / (den - den_error) +
+      4 * eps * std::fabs(ux);
+  const double uy_error =
+      (16 * eps * (std::fabs(dx) * e2 + std::fabs(ex) * d2) + std::fabs(uy) * den_error) / (den - den_error) +
+      4 * eps * std::fabs(uy);
+  if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return full_domain;
+  const double r = std::sqrt(ux * ux + uy * uy);
+  const double r_hi =
+      std::sqrt((std::fabs(ux) + ux_error) * (std::fabs(ux) + ux_error) +
+                (std::fabs(uy) + uy_error) * (std::fabs(uy) + uy_error)) * (1 + 8 * eps);
+  const double cx = a.x + ux, cy = a.y + uy;
+  const double cx_error = ux_error + 4 * eps * (std::fabs(a.x) + std::fabs(ux));
+  const double cy_error = uy_error + 4 * eps * (std::fabs(a.y) + std::fabs(uy));
+  const double reach_x = r_hi + cx_error, reach_y = r_hi + cy_error;
+
+  double min_x = std::min(a.x, b.x), max_x = std::max(a.x, b.x);
+  double min_y = std::min(a.y, b.y), max_y = std::max(a.y, b.y);
+  // An extreme point of the circle bounds the region only if it lies on the left arc; include it
+  // unless it is clearly right of a->b (tolerance covers the centre and radius errors).
+  const double tolerance = (std::fabs(dx) + std::fabs(dy)) * (ux_error + uy_error + (r_hi - r)) * 4 +
+                           16 * eps * (std::fabs(dx) + std::fabs(dy)) * (std::fabs(ux) + std::fabs(uy) + r);
+  const auto on_left = [&](double ox, double oy) { return dx * oy - dy * ox >= -tolerance; };
+  if (on_left(ux + r, uy)) max_x = std::max(max_x, cx + reach_x);
+  if (on_left(ux - r, uy)) min_x = std::min(min_x, cx - reach_x);
+  if (on_left(ux, uy + r)) max_y = std::max(max_y, cy + reach_y);
+  if (on_left(ux, uy - r)) min_y = std::min(min_y, cy - reach_y);
+  return {tree_.quantise_x(min_x), tree_.quantise_y(min_y), tree_.quantise_x(max_x),
+          tree_.quantise_y(max_y)};
+}
+
+std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
+  const Point2 a = sites_.points[ia];
+  const Point2 b = sites_.points[ib];
+  const auto& nodes = tree_.nodes();
+  const auto& entries = tree_.entries();
+
+  const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
+  const std::uint32_t qmy = tree_.quantise_y(0.5 * a.y + 0.5 * b.y);
+  // Every circle through a and b reaches |ab|/2 from the midpoint: start at least that wide.
+  const double half_length = 0.5 * std::hypot(b.x - a.x, b.y - a.y) / tree_.quantum();
+  std::uint64_t half = std::max<std::uint64_t>(tree_.bucket_size_at(qmx, qmy),
+                                               static_cast<std::uint64_t>(std::min(half_length, 4e9)) + 1);
+
+  std::int32_t best = -1;
+  Point2 best_point{};
+  QuantBox best_box = full_domain;
+  QuantBox visited{};
+  bool has_visited = false;
+  while (true) {
+    const QuantBox square = square_around(qmx, qmy, half);
+    stack_.clear();
+    stack_.push_back(0);
+    while (!stack_.empty()) {
+      const BucketTree::Node& node = nodes[stack_.back()];
+      stack_.pop_back();
+      if (node.begin == node.end) continue;
+      const QuantBox box = node.box();
+      if (!box.intersects(square) || !box.intersects(best_box)) continue;
+      if (has_visited && visited.contains(box)) continue;
+      if (entirely_right(box, a, b)) continue;
+      if (node.first_child >= 0) {
+        for (int k = 0; k < 4; ++k) stack_.push_back(node.first_child + k);
+        continue;
+      }
+      if (has_visited && box.intersects(visited)) continue;  // scanned in an earlier round
+      for (std::int32_t i = node.begin; i < node.end; ++i) {
+        const BucketTree::Entry& e = entries[i];
+        if (e.qx < best_box.x0 || e.qx > best_box.x1 || e.qy < best_box.y0 || e.qy > best_box.y1) continue;
+        if (e.id == ia || e.id == ib) continue;
+        const Point2 p{e.x, e.y};
+        ++candidates_tested_;
+        if (orient2d(a, b, p) <= 0) continue;
+        if (best < 0 || incircle_perturbed(a, b, best_point, p) > 0) {
+          best = e.id;
+          best_point = p;
+          best_box = left_region_box(a, b, p);
+        }
+      }
+    }
+    if (best >= 0 && square.contains(best_box)) return best;
+    if (square.contains(full_domain)) return best;
+    visited = square;
+    has_visited = true;
+    half *= 2;
+  }
+}
+
+std::int32_t ApexSearch::nearest_neighbor(std::int32_t s) { return nearest(sites_.points[s], s); }
+
+std::int32_t ApexSearch::nearest(const Point2& q, std::int32_t exclude) {
+  const auto& nodes = tree_.nodes();
+  const auto& entries = tree_.entries();
+  if (entries.empty()) return -1;
+  const std::uint32_t qx = tree_.quantise_x(q.x), qy = tree_.quantise_y(q.y);
+  std::uint64_t half = tree_.bucket_size_at(qx, qy);
+  std::int32_t best = -1;
+  Point2 best_point{};
+  QuantBox best_box = full_domain;
+  QuantBox visited{};
+  bool has_visited = false;
+  while (true) {
+    const QuantBox square = square_around(qx, qy, half);
+    stack_.clear();
+    stack_.push_back(0);
+    while (!stack_.empty()) {
+      const BucketTree::Node& node = nodes[stack_.back()];
+      stack_.pop_back();
+      if (node.begin == node.end) continue;
+      const QuantBox box = node.box();
+      if (!box.intersects(square) || !box.intersects(best_box)) continue;
+      if (has_visited && visited.contains(box)) continue;
+      if (node.first_child >= 0) {
+        for (int k = 0; k < 4; ++k) stack_.push_back(node.first_child + k);
+        continue;
+      }
+      if (has_visited && box.intersects(visited)) continue;
+      for (std::int32_t i = node.begin; i < node.end; ++i) {
+        const BucketTree::Entry& e = entries[i];
+        if (e.id == exclude) continue;
+        const Point2 p{e.x, e.y};
+        if (best < 0 || compare_squared_distance(q, p, best_point) < 0) {
+          best = e.id;
+          best_point = p;
+          const double r = std::hypot(p.x - q.x, p.y - q.y) * (1 + 1e-9) + 4 * tree_.quantum();
+          best_box = {tree_.quantise_x(q.x - r), tree_.quantise_y(q.y - r), tree_.quantise_x(q.x + r),
+                      tree_.quantise_y(q.y + r)};
+        }
+      }
+    }
+    if (best >= 0 && square.contains(best_box)) return best;
+    if (square.contains(full_domain)) return best;
+    visited = square;
+    has_visited = true;
+    half *= 2;
+  }
+}
+
+}  // namespace expanse::detail

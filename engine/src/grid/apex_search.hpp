@@ -1,0 +1,43 @@
+#pragma once
+// The one primitive, on the host: apex(a->b) over the bucket tree (DESIGN.md, docs/algorithm.md).
+#include <cstdint>
+#include <vector>
+
+#include "grid/bucket_tree.hpp"
+#include "input/site_set.hpp"
+
+namespace expanse::detail {
+
+class ApexSearch {
+ public:
+  ApexSearch(const SiteSet& sites, const BucketTree& tree) : sites_(sites), tree_(tree) {}
+
+  /// The site c strictly left of a->b whose perturbed circle(a, b, c) holds no other site, or
+  /// -1 if no site lies strictly left. Precondition: a != b.
+  std::int32_t apex(std::int32_t a, std::int32_t b);
+
+  /// The site nearest to site s (exact comparison of squared distances), -1 if s is alone.
+  std::int32_t nearest_neighbor(std::int32_t s);
+
+  /// The site nearest to an arbitrary point (exactly), -1 if there are no sites.
+  std::int32_t nearest_site(const Point2& q) { return nearest(q, -1); }
+
+  /// Sites tested against a predicate so far (for stats and benchmarks).
+  std::uint64_t candidates_tested() const { return candidates_tested_; }
+
+ private:
+  std::int32_t nearest(const Point2& q, std::int32_t exclude);
+  QuantBox left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
+  QuantBox square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const;
+  bool entirely_right(const QuantBox& box, const Point2& a, const Point2& b) const;
+
+  const SiteSet& sites_;
+  const BucketTree& tree_;
+  std::vector<std::int32_t> stack_;
+  std::uint64_t candidates_tested_ = 0;
+};
+
+/// Sign of |q - p1|^2 - |q - p2|^2, exactly.
+int compare_squared_distance(const Point2& q, const Point2& p1, const Point2& p2);
+
+}  // namespace expanse::detail

@@ -1,0 +1,72 @@
+#pragma once
+// Buckets for the apex search on the host: a quadtree over Morton-sorted sites whose leaves
+// (buckets) hold at most a few sites, so dense clusters get small buckets and sparse regions
+// large ones. All box tests run on quantised integer coordinates: quantisation is monotone in
+// the real coordinates, so a site can never hide outside the box it is tested against.
+#include <cstdint>
+#include <vector>
+
+#include "input/site_set.hpp"
+
+namespace expanse::detail {
+
+/// Integer box [x0, x1] x [y0, y1] in quantised coordinates (inclusive).
+struct QuantBox {
+  std::uint32_t x0, y0, x1, y1;
+  bool intersects(const QuantBox& o) const {
+    return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1;
+  }
+  bool contains(const QuantBox& o) const {
+    return x0 <= o.x0 && o.x1 <= x1 && y0 <= o.y0 && o.y1 <= y1;
+  }
+};
+
+class BucketTree {
+ public:
+  static constexpr int quant_bits = 30;
+  static constexpr std::uint32_t quant_max = (1u << quant_bits) - 1;
+  static constexpr int bucket_capacity = 8;
+
+  struct Entry {  // a site in Morton order
+    double x, y;
+    std::int32_t id;
+    std::uint32_t qx, qy;  // quantised coordinates, for cheap box rejection
+  };
+  struct Node {
+    std::uint32_t x0, y0;  // quantised lower-left corner
+    std::uint32_t size;    // side length in quanta (a power of two)
+    std::int32_t first_child;  // index of 4 consecutive children, or -1 for a bucket
+    std::int32_t begin, end;   // range of entries
+    QuantBox box() const { return {x0, y0, x0 + (size - 1), y0 + (size - 1)}; }
+  };
+
+  explicit BucketTree(const SiteSet& sites);
+
+  /// Quantised coordinate of a real one; monotone, clamped to [0, quant_max].
+  std::uint32_t quantise_x(double x) const { return quantise(x - origin_x_); }
+  std::uint32_t quantise_y(double y) const { return quantise(y - origin_y_); }
+  /// Real lower bound of quantum q (for conservative geometric pruning only).
+  double real_x(double q) const { return origin_x_ + q / scale_; }
+  double real_y(double q) const { return origin_y_ + q / scale_; }
+  double quantum() const { return 1.0 / scale_; }
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  const std::vector<Entry>& entries() const { return entries_; }
+  /// Side (in quanta) of the bucket containing quantised point (qx, qy).
+  std::uint32_t bucket_size_at(std::uint32_t qx, std::uint32_t qy) const;
+
+ private:
+  std::uint32_t quantise(double offset) const {
+    const double q = offset * scale_;
+    if (!(q > 0.0)) return 0;
+    if (q >= static_cast<double>(quant_max)) return quant_max;
+    return static_cast<std::uint32_t>(q);
+  }
+  void split(std::int32_t node, const std::vector<std::uint64_t>& codes);
+
+  double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
+  std::vector<Entry> entries_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace expanse::detail

@@ -1,0 +1,103 @@
+#include "hull/convex_hull.hpp"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+
+#include "predicates/predicates.hpp"
+
+namespace expanse::detail {
+namespace {
+
+bool lex_less(const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
+
+// Akl–Toussaint: sites strictly inside the polygon of the eight extreme sites cannot be on the
+// hull (not even as collinear hull sites), so only the rest need sorting.
+std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
+  const auto& p = sites.points;
+  const std::int32_t n = sites.size();
+  // Extremes in 8 directions, in CCW order: min y, min (y - x)... expressed as maximisers of
+  // direction dot products; exact ties do not matter for correctness.
+  constexpr std::array<std::array<double, 2>, 8> directions = {{
+      {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}}};
+  std::array<std::int32_t, 8> extreme{};
+  std::array<double, 8> best{};
+  best.fill(-std::numeric_limits<double>::infinity());
+  for (std::int32_t i = 0; i < n; ++i) {
+    for (int d = 0; d < 8; ++d) {
+      const double v = directions[d][0] * p[i].x + directions[d][1] * p[i].y;
+      if (v > best[d]) {
+        best[d] = v;
+        extreme[d] = i;
+      }
+    }
+  }
+  std::vector<std::int32_t> polygon;
+  for (std::int32_t e : extreme) {
+    if (polygon.empty() || (polygon.back() != e && polygon.front() != e)) polygon.push_back(e);
+  }
+  // The extremes are hull sites in CCW order, but rounding in the dot products could in
+  // principle misorder nearly-equal ones: only use the polygon if it is strictly convex.
+  const std::size_t m = polygon.size();
+  bool usable = m >= 3;
+  for (std::size_t k = 0; usable && k < m; ++k) {
+    usable = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[polygon[(k + 2) % m]]) > 0;
+  }
+  std::vector<std::int32_t> candidates;
+  candidates.reserve(usable ? 1024 : n);
+  for (std::int32_t i = 0; i < n; ++i) {
+    bool strictly_inside = usable;
+    for (std::size_t k = 0; strictly_inside && k < m; ++k) {
+      strictly_inside = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[i]) > 0;
+    }
+    if (!strictly_inside) candidates.push_back(i);
+  }
+  return candidates;
+}
+
+}  // namespace
+
+Hull convex_hull(const SiteSet& sites) {
+  const auto& p = sites.points;
+  Hull hull;
+  hull.predecessor.assign(p.size(), -1);
+  if (p.empty()) return hull;
+
+  std::vector<std::int32_t> order = hull_candidates(sites);
+  std::sort(order.begin(), order.end(),
+            [&](std::int32_t a, std::int32_t b) { return lex_less(p[a], p[b]); });
+
+  const std::int32_t first = order.front();
+  const std::int32_t last = order.back();
+  hull.collinear = std::all_of(order.begin(), order.end(), [&](std::int32_t i) {
+    return orient2d(p[first], p[last], p[i]) == 0;
+  });
+  if (hull.collinear) {
+    // Every site is a candidate here (nothing is strictly inside a degenerate polygon).
+    hull.sites = order;
+    return hull;
+  }
+
+  // Monotone chain that keeps collinear sites: pop only on a strict right turn. The lower chain
+  // takes the right vertical side, the upper chain the left one, so nothing is listed twice.
+  std::vector<std::int32_t> chain;
+  chain.reserve(order.size() + 1);
+  auto extend = [&](std::int32_t site, std::size_t floor) {
+    while (chain.size() >= floor + 2 &&
+           orient2d(p[chain[chain.size() - 2]], p[chain.back()], p[site]) < 0) {
+      chain.pop_back();
+    }
+    chain.push_back(site);
+  };
+  for (std::int32_t site : order) extend(site, 0);
+  const std::size_t lower_size = chain.size();
+  for (auto it = order.rbegin() + 1; it != order.rend(); ++it) extend(*it, lower_size - 1);
+  chain.pop_back();  // the first site again
+
+  hull.sites = std::move(chain);
+  const std::size_t h = hull.sites.size();
+  for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
+  return hull;
+}
+
+}  // namespace expanse::detail

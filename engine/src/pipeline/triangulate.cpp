@@ -1,0 +1,114 @@
+#include "expanse/triangulate.hpp"
+
+#include <chrono>
+
+#include "grid/bucket_tree.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "pipeline/backend_registry.hpp"
+#include "seam/seam_completion.hpp"
+
+namespace expanse {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Runs one named stage and records its wall time.
+template <class Work>
+auto timed(Stats& stats, const char* name, Work&& work) {
+  const auto start = Clock::now();
+  if constexpr (std::is_void_v<decltype(work())>) {
+    work();
+    stats.stages.push_back({name, ms_since(start)});
+  } else {
+    auto result = work();
+    stats.stages.push_back({name, ms_since(start)});
+    return result;
+  }
+}
+
+std::vector<std::int32_t> to_input_indices(const std::vector<std::int32_t>& site_ids,
+                                           const detail::SiteSet& sites) {
+  std::vector<std::int32_t> out(site_ids.size());
+  for (std::size_t i = 0; i < site_ids.size(); ++i) out[i] = sites.input_index[site_ids[i]];
+  return out;
+}
+
+}  // namespace
+
+struct Triangulator::Impl {
+  Options options;
+  std::unique_ptr<detail::Backend> backend;
+};
+
+Triangulator::Triangulator(const Options& options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->backend = detail::make_backend(options.backend, options.device);
+}
+Triangulator::~Triangulator() = default;
+Triangulator::Triangulator(Triangulator&&) noexcept = default;
+Triangulator& Triangulator::operator=(Triangulator&&) noexcept = default;
+
+BackendKind Triangulator::backend() const { return impl_->backend->kind(); }
+
+Mesh Triangulator::triangulate(std::span<const Point2> points) {
+  const auto start = Clock::now();
+  Mesh mesh;
+  Stats& stats = mesh.stats;
+  detail::Backend& backend = *impl_->backend;
+  stats.backend = std::string(to_string(backend.kind()));
+  stats.device = backend.device_name();
+  stats.input_points = points.size();
+
+  const detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
+  stats.sites = sites.points.size();
+  stats.duplicates = stats.input_points - stats.sites;
+  const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });
+  stats.hull_sites = hull.sites.size();
+  mesh.hull = to_input_indices(hull.sites, sites);
+
+  if (sites.size() >= 3 && !hull.collinear) {
+    detail::GrowResult grown = timed(stats, "grow", [&] {
+      return backend.grow({sites, hull, impl_->options.layout});
+    });
+    for (auto& stage : grown.host_stages) stats.stages.push_back(std::move(stage));
+    stats.device_stages = std::move(grown.device_stages);
+    stats.iterations = grown.iterations;
+    stats.deferred_expansions = grown.partial.deferred_expansions;
+    stats.gpu_triangles = grown.partial.triangles.size();
+
+    detail::PartialTriangulation& partial = grown.partial;
+    const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
+    if (partial.triangles.size() != expected) {
+      // Something is left open: the seam stage needs the bucket tree over every site.
+      const detail::BucketTree tree = timed(stats, "buckets", [&] { return detail::BucketTree(sites); });
+      const detail::SeamStats seam =
+          timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
+      stats.seam_triangles = seam.triangles_made;
+    } else if (impl_->options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
+      partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
+    }
+
+    timed(stats, "output", [&] {
+      mesh.triangles = std::move(partial.triangles);
+      for (Triangle& t : mesh.triangles) {
+        for (std::int32_t& v : t) v = sites.input_index[v];
+      }
+      if (impl_->options.neighbors) mesh.neighbors = std::move(partial.neighbors);
+    });
+  }
+  stats.triangles = mesh.triangles.size();
+  mesh.representative = sites.representative;
+  stats.total_ms = ms_since(start);
+  return mesh;
+}
+
+Mesh triangulate(std::span<const Point2> points, const Options& options) {
+  return Triangulator(options).triangulate(points);
+}
+
+}  // namespace expanse

@@ -1,0 +1,30 @@
+#pragma once
+// The seam-completion stage: the paper's sequential incremental extrapolation, seeded with the
+// open front of a partial triangulation (or, when there is none, with one seed). Every backend
+// hands its unfinished work here; the CPU backend is this stage seeded with one seed.
+#include <cstddef>
+
+#include "grid/bucket_tree.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "seam/partial_triangulation.hpp"
+
+namespace expanse::detail {
+
+struct SeamStats {
+  std::size_t triangles_made = 0;   ///< triangles this stage added
+  std::size_t open_edges = 0;       ///< front edges it started from
+  std::uint64_t candidates_tested = 0;
+};
+
+/// Completes `mesh` in place to the full Delaunay triangulation: appends the missing triangles
+/// and fills mesh.neighbors (derived first if empty). Preconditions: at least three sites, not
+/// all collinear; every triangle of `mesh` is a correct Delaunay triangle, CCW, present once.
+/// Throws Error(internal) if the result does not have 2n - h - 2 triangles.
+SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree& tree,
+                        PartialTriangulation& mesh);
+
+/// Adjacency of a set of triangles (no_neighbor where an edge has one triangle).
+std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Triangle>& triangles);
+
+}  // namespace expanse::detail
