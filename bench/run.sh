@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# Runs Expanse's benchmarks and turns the results into docs/benchmarks.md and plots.
+#
+#   bench/run.sh --quick            under a minute on a 2-core machine with lavapipe or CPU only;
+#                                   results and report go to bench/out/quick/ (docs/ untouched).
+#                                   CI runs this so the benchmark programs and the report cannot rot.
+#   bench/run.sh --full             real numbers; results go to bench/results/<date>-<host>/ and
+#                                   the report is written into docs/.
+#
+# Options:
+#   --build-dir DIR       build tree (configured here if it has none; default: build-bench)
+#   --no-build            use the programs already built in --build-dir
+#   --experiments LIST    comma list of peers,threads,scaling,pictures (default: all)
+#   --gpu LIST            GPU backends to try (default: vulkan,cuda; missing ones are skipped
+#                         with a record that says why)
+#   --results DIR         where the JSON lines go (overrides the defaults above)
+#   --note TEXT           stored in every record (say how loaded the machine was)
+#   --no-report           only measure
+# Each experiment is one expanse-bench invocation, so a device session with a per-command time
+# limit can run them one at a time (--experiments scaling, then --experiments threads, ...).
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$(cd "$here/.." && pwd)"
+mode=""
+build_dir="$root/build-bench"
+build=1
+report=1
+experiments="peers,threads,scaling,pictures"
+gpu="vulkan,cuda"
+results=""
+note=""
+
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --quick) mode=quick ;;
+    --full) mode=full ;;
+    --build-dir) build_dir="$(realpath -m "$2")"; shift ;;
+    --no-build) build=0 ;;
+    --experiments) experiments="$2"; shift ;;
+    --gpu) gpu="$2"; shift ;;
+    --results) results="$(realpath -m "$2")"; shift ;;
+    --note) note="$2"; shift ;;
+    --no-report) report=0 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    *) echo "run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+if [[ -z "$mode" ]]; then
+  echo "run.sh: say --quick or --full (see --help)" >&2
+  exit 2
+fi
+
+if [[ $build -eq 1 ]]; then
+  if [[ ! -f "$build_dir/build.ninja" && ! -f "$build_dir/Makefile" ]]; then
+    generator=()
+    command -v ninja >/dev/null && generator=(-G Ninja)
+    cmake -S "$root" -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
+      -DEXPANSE_BUILD_BENCH=ON
+  fi
+  cmake --build "$build_dir" --target expanse_bench expanse_bench_peers -j"$(nproc)"
+fi
+bench="$build_dir/bench/expanse-bench"
+peers="$build_dir/bench/expanse-bench-peers"
+
+# delaunator comes from npm at bench time; without network the records say it was skipped.
+if command -v npm >/dev/null && [[ ! -d "$here/delaunator/node_modules/delaunator" ]]; then
+  (cd "$here/delaunator" && npm ci --no-audit --no-fund --loglevel=error >/dev/null 2>&1) ||
+    echo "run.sh: npm ci failed; delaunator will be skipped" >&2
+fi
+
+if [[ -z "$results" ]]; then
+  if [[ $mode == quick ]]; then
+    results="$here/out/quick/results"
+    rm -rf "$results"
+  else
+    results="$here/results/$(date -u +%Y-%m-%d)-$(hostname -s)"
+  fi
+fi
+mkdir -p "$results"
+
+load="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || true)"
+[[ -z "$note" ]] && note="load average at start: $load"
+gpu_and_cpu="cpu,$gpu"
+
+run() {  # run EXPERIMENT ARGS...: one expanse-bench invocation appending to EXPERIMENT.jsonl
+  local experiment="$1"
+  shift
+  echo "== $experiment" >&2
+  "$bench" --experiment "$experiment" --note "$note" -o "$results/$experiment.jsonl" "$@"
+}
+
+has() { [[ ",$experiments," == *",$1,"* ]]; }
+
+if [[ $mode == quick ]]; then
+  "$peers" 2e4
+  has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
+    --dist uniform,gaussian -n 1e3,1e4 --layouts default,paper --warmup 1 -r 3
+  has threads && run threads --backends "$gpu" --dist uniform -n 64^2,128^2 --layouts paper \
+    --threads 8,16,32,64 --warmup 1 -r 1
+  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist uniform,gaussian \
+    -n 32^2,64^2,128^2,256^2 --layouts default,paper --warmup 1 -r 3
+  has pictures && run pictures --backends "$gpu,cpu" --dist uniform,gaussian -n 32^2 \
+    --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
+else
+  has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
+    --dist uniform,gaussian -n 1e4,1e5,1e6 --layouts default,paper --warmup 1 -r 5 \
+    --max-seconds 60
+  # Fig. IV.1: the paper's sizes, threads per block in powers of two around sqrt(n/256).
+  has threads && run threads --backends "$gpu" --dist uniform -n 256^2,512^2,1024^2,2048^2 \
+    --layouts paper --threads 8,16,32,64,128,256,512,1024 --warmup 1 -r 3 --max-seconds 20
+  # Figs. IV.2/IV.3 and the iteration counts: n = 32^2 ... 4096^2.
+  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist uniform,gaussian \
+    -n 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2 --layouts default,paper --warmup 1 -r 5 \
+    --max-seconds 30
+  has pictures && run pictures --backends "$gpu,cpu" --dist uniform,gaussian -n 32^2 \
+    --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
+fi
+
+# Debian's python3-matplotlib lives under /usr/bin/python3; a pyenv or venv python3 earlier on
+# PATH may lack it.
+python=""
+for candidate in python3 /usr/bin/python3; do
+  if "$candidate" -c "import matplotlib" 2>/dev/null; then python="$candidate"; break; fi
+done
+if [[ $report -eq 1 && -z "$python" ]]; then
+  echo "run.sh: no python3 with matplotlib (apt-get install python3-matplotlib)" >&2
+  exit 1
+fi
+if [[ $report -eq 1 ]]; then
+  if [[ $mode == quick ]]; then
+    "$python" "$here/report.py" --results "$results" --docs "$here/out/quick/docs"
+  else
+    "$python" "$here/report.py" --results "$here/results" --docs "$root/docs"
+  fi
+fi
+echo "run.sh: results in $results" >&2
