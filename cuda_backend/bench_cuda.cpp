@@ -1,0 +1,165 @@
+// CUDA backend benchmark: one JSON object per (distribution, n) on stdout.
+//
+//   expanse_bench_cuda [--sizes 512,1024,2048,4096] [--dists uniform,gaussian,grid,kuzmin]
+//                      [--reps 5] [--no-pipeline]
+//
+// Sizes are sides: n = side^2 points. Times are medians after one warm-up run:
+//   host_to_host_ms  expanse::triangulate(): std::vector points -> Mesh (triangles + neighbours)
+//   backend_ms       Backend::grow() alone: prepared sites -> triangles + neighbours in vectors
+//   gpu_ms           device stages without transfers (CUDA events)
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "cuda_internal.hpp"
+#include "expanse/generate.hpp"
+#include "expanse/triangulate.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+
+using namespace expanse;
+using namespace expanse::detail;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) out.push_back(item);
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> sizes{"512", "1024", "2048", "4096"};
+  std::vector<std::string> dists{"uniform", "gaussian", "grid", "kuzmin"};
+  int reps = 5;
+  bool pipeline = true;
+  bool paper = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--sizes" && i + 1 < argc) sizes = split(argv[++i]);
+    else if (a == "--dists" && i + 1 < argc) dists = split(argv[++i]);
+    else if (a == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--no-pipeline") pipeline = false;
+    else if (a == "--paper") paper = true;
+    else {
+      std::fprintf(stderr, "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper]\n", argv[0]);
+      return 2;
+    }
+  }
+  std::unique_ptr<Backend> backend;
+  try {
+    backend = make_cuda_backend(-1);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "no CUDA backend: %s\n", e.what());
+    return 77;
+  }
+  Layout layout = paper ? Layout::paper() : Layout{};
+  for (const auto& dist : dists) {
+    for (const auto& side_text : sizes) {
+      const std::size_t side = std::stoul(side_text);
+      const std::size_t n = side * side;
+      const std::vector<Point2> points = generate_points(dist, n, 42);
+      const double t0 = now_ms();
+      SiteSet sites = prepare_sites(points);
+      const double t1 = now_ms();
+      Hull hull = convex_hull(sites);
+      const double t2 = now_ms();
+      std::vector<double> backend_ms, gpu_ms, h2h_ms, seam_share;
+      std::map<std::string, std::vector<double>> stage_ms, host_stage_ms, pipeline_stage_ms;
+      cuda::RunCounters counters;
+      std::size_t deferred = 0, triangles = 0;
+      std::string error;
+      try {
+        for (int r = 0; r <= reps; ++r) {  // r == 0: warm-up
+          const double g0 = now_ms();
+          GrowResult result = backend->grow(GrowInput{sites, hull, layout});
+          const double g1 = now_ms();
+          if (r == 0) continue;
+          backend_ms.push_back(g1 - g0);
+          double gpu = 0.0;
+          for (const auto& s : result.device_stages) {
+            stage_ms[s.name].push_back(s.ms);
+            if (s.name != "upload" && s.name != "download") gpu += s.ms;
+          }
+          for (const auto& s : result.host_stages) host_stage_ms[s.name].push_back(s.ms);
+          gpu_ms.push_back(gpu);
+          deferred = result.partial.deferred_expansions;
+          triangles = result.partial.triangles.size();
+          counters = cuda::last_run_counters();
+        }
+        if (pipeline) {
+          Options options;
+          options.backend = BackendKind::cuda;
+          options.layout = layout;
+          for (int r = 0; r <= reps; ++r) {
+            const double p0 = now_ms();
+            Mesh mesh = triangulate(points, options);
+            const double p1 = now_ms();
+            if (r == 0) continue;
+            h2h_ms.push_back(p1 - p0);
+            seam_share.push_back(mesh.triangles.empty() ? 0.0
+                                                        : static_cast<double>(mesh.stats.seam_triangles) /
+                                                              static_cast<double>(mesh.triangles.size()));
+            for (const auto& s : mesh.stats.stages) pipeline_stage_ms[s.name].push_back(s.ms);
+          }
+        }
+      } catch (const Error& e) {
+        error = std::string(to_string(e.code())) + ": " + e.what();
+      }
+      std::printf("{\"device\":\"%s\",\"layout\":\"%s\",\"distribution\":\"%s\",\"side\":%zu,\"n\":%zu,\"sites\":%zu,"
+                  "\"hull\":%zu,\"reps\":%d,",
+                  backend->device_name().c_str(), paper ? "paper" : "per_site", dist.c_str(), side, n,
+                  sites.points.size(), hull.sites.size(), reps);
+      if (!error.empty()) {
+        std::string escaped;
+        for (char c : error) escaped += (c == '"' || c == '\\') ? ' ' : c;
+        std::printf("\"error\":\"%s\"}\n", escaped.c_str());
+        std::fflush(stdout);
+        continue;
+      }
+      std::printf("\"prepare_sites_ms\":%.3f,\"hull_ms\":%.3f,\"backend_ms\":%.3f,\"gpu_ms\":%.3f,", t1 - t0, t2 - t1,
+                  median(backend_ms), median(gpu_ms));
+      if (pipeline) std::printf("\"host_to_host_ms\":%.3f,\"seam_share\":%.6g,", median(h2h_ms), median(seam_share));
+      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,",
+                  triangles, deferred, static_cast<unsigned long long>(counters.predicates),
+                  static_cast<unsigned long long>(counters.bytes_to_device),
+                  static_cast<unsigned long long>(counters.bytes_to_host));
+      auto dump = [](const char* key, const std::map<std::string, std::vector<double>>& m, bool comma) {
+        std::printf("\"%s\":{", key);
+        bool first = true;
+        for (const auto& [name, v] : m) {
+          std::printf("%s\"%s\":%.3f", first ? "" : ",", name.c_str(), median(v));
+          first = false;
+        }
+        std::printf("}%s", comma ? "," : "");
+      };
+      dump("device_stages_ms", stage_ms, true);
+      dump("backend_host_stages_ms", host_stage_ms, pipeline);
+      if (pipeline) dump("pipeline_stages_ms", pipeline_stage_ms, false);
+      std::printf("}\n");
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

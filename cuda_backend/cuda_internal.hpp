@@ -1,0 +1,114 @@
+#pragma once
+// Host-side pieces the CUDA backend's translation units share. Internal: CUDA types are fine
+// here, never in engine/include except cuda_interop.hpp.
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "cuda_check.hpp"
+
+namespace expanse::detail::cuda {
+
+/// Two pinned buffers used alternately, so that a host memcpy of one chunk overlaps the DMA of
+/// the next. Pageable copies run at ~8-13 GB/s, pinned at ~50 GB/s; the host memcpy into or out
+/// of the caller's std::vector is spread over a few threads to keep up.
+class PinnedStaging {
+ public:
+  explicit PinnedStaging(std::size_t chunk_bytes = std::size_t{32} << 20);
+  ~PinnedStaging();
+  PinnedStaging(const PinnedStaging&) = delete;
+  PinnedStaging& operator=(const PinnedStaging&) = delete;
+
+  /// Host -> device, enqueued on `stream`; returns once the host source may be reused.
+  void upload(void* device_dst, const void* host_src, std::size_t bytes, cudaStream_t stream);
+  /// Device -> host; returns when the bytes are in host_dst.
+  void download(void* host_dst, const void* device_src, std::size_t bytes, cudaStream_t stream);
+  std::size_t bytes_moved() const { return bytes_moved_; }
+
+ private:
+  std::size_t chunk_;
+  void* buffer_[2] = {nullptr, nullptr};
+  cudaEvent_t done_[2] = {nullptr, nullptr};
+  std::size_t bytes_moved_ = 0;
+};
+
+/// CUDA events around named stages, read once at the end (no sync per stage).
+class StageTimer {
+ public:
+  explicit StageTimer(cudaStream_t stream) : stream_(stream) {}
+  ~StageTimer();
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+  void begin(const char* name);
+  void end();
+  /// Synchronises on the last event and returns the stage times.
+  std::vector<StageTime> collect();
+
+ private:
+  struct Mark {
+    std::string name;
+    cudaEvent_t start = nullptr, stop = nullptr;
+  };
+  cudaStream_t stream_;
+  std::vector<Mark> marks_;
+};
+
+/// The device a backend runs on and the one stream all its work goes to.
+struct Context {
+  int device = 0;
+  cudaStream_t stream = nullptr;
+  bool own_stream = false;
+  std::string name;
+  std::size_t total_memory = 0;
+  PinnedStaging* staging = nullptr;
+};
+
+/// Per-site star layout (docs/algorithm.md, "GPU, per-site seeding").
+void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result);
+/// The paper's block layout with halo (docs/algorithm.md, "GPU, the paper's layout").
+void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result);
+
+/// Runs the error-free transformations and predicates on the device against values known
+/// exactly; false (with the reason) when the device arithmetic cannot be trusted.
+bool device_self_test(cudaStream_t stream, std::string* why);
+
+/// What the last grow() on this thread moved and evaluated (for the benchmark's floor count).
+struct RunCounters {
+  std::uint64_t predicates = 0;  ///< orient2d + incircle evaluations in the apex searches
+  std::uint64_t bytes_to_device = 0;
+  std::uint64_t bytes_to_host = 0;
+  std::uint64_t triangles = 0;
+};
+RunCounters& last_run_counters();
+
+/// A stream that the interop entry point lends to the next backends created on this thread.
+cudaStream_t& borrowed_stream();
+
+/// Device memory with stream-ordered lifetime (cudaMallocAsync from a pool that keeps its
+/// memory between calls, so repeated triangulations allocate nothing).
+template <class T>
+class DeviceArray {
+ public:
+  DeviceArray(std::size_t count, cudaStream_t stream) : stream_(stream), count_(count) {
+    if (count_ > 0) EXPANSE_CUDA(cudaMallocAsync(reinterpret_cast<void**>(&ptr_), count_ * sizeof(T), stream_));
+  }
+  ~DeviceArray() {
+    if (ptr_) cudaFreeAsync(ptr_, stream_);
+  }
+  DeviceArray(const DeviceArray&) = delete;
+  DeviceArray& operator=(const DeviceArray&) = delete;
+  T* get() const { return ptr_; }
+  std::size_t size() const { return count_; }
+  std::size_t bytes() const { return count_ * sizeof(T); }
+
+ private:
+  cudaStream_t stream_;
+  std::size_t count_;
+  T* ptr_ = nullptr;
+};
+
+}  // namespace expanse::detail::cuda

@@ -1,0 +1,278 @@
+#pragma once
+// Device-side geometry shared by the per-site and the block layouts: exact predicates with
+// CGAL's perturbation, the uniform bucket grid, the nearest-neighbour search and the apex
+// search. Everything a kernel decides here is exact; what it cannot decide it reports as
+// `uncertain` and the caller defers the work to the CPU seam stage.
+#include <cstdint>
+
+#include "predicates/exact_arith.hpp"
+
+namespace expanse::detail::cuda {
+
+namespace ex = ::expanse::detail::exact;
+inline constexpr int kUncertain = ex::uncertain;
+
+__device__ __forceinline__ bool safe_point(double2 p) {
+  return ex::in_safe_range(p.x) && ex::in_safe_range(p.y);
+}
+
+/// Exact orientation: filter, certificate, then (small) expansions. Only the expansion step
+/// needs coordinates in the safe range; outside it the answer is `uncertain`.
+__device__ inline int orient(double2 a, double2 b, double2 c) {
+  int s = ex::orient2d_filter(a.x, a.y, b.x, b.y, c.x, c.y);
+  if (s != kUncertain) return s;
+  s = ex::orient2d_certified(a.x, a.y, b.x, b.y, c.x, c.y);
+  if (s != kUncertain) return s;
+  if (safe_point(a) && safe_point(b) && safe_point(c))
+    return ex::orient2d_expansion(a.x, a.y, b.x, b.y, c.x, c.y);
+  return kUncertain;
+}
+
+__device__ __forceinline__ bool lex_less(double2 p, double2 q) {
+  return p.x < q.x || (p.x == q.x && p.y < q.y);
+}
+
+/// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(a, b, c, d, perturb = true) for
+/// CCW (a, b, c): +1 if d is inside the perturbed circle, -1 outside, or `uncertain`. The full
+/// incircle expansion needs ~40 KB of stack per thread, too much to reserve for every resident
+/// GPU thread, so an incircle that neither the filter nor the certificate decides is deferred.
+__device__ inline int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
+  int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s != 0) return s;  // a sign, or uncertain
+  // Exactly cocircular: walk the four points from the lexicographically largest down.
+  const double2 p[4] = {a, b, c, d};
+  int order[4] = {0, 1, 2, 3};
+  for (int i = 1; i < 4; ++i)
+    for (int j = i; j > 0 && lex_less(p[order[j]], p[order[j - 1]]); --j) {
+      const int t = order[j];
+      order[j] = order[j - 1];
+      order[j - 1] = t;
+    }
+  for (int i = 3; i > 1; --i) {
+    const int k = order[i];
+    if (k == 3) return -1;
+    int o;
+    if (k == 2)
+      o = orient(a, b, d);
+    else if (k == 1)
+      o = orient(a, d, c);
+    else
+      o = orient(d, b, c);
+    if (o == kUncertain) return kUncertain;
+    if (o != 0) return o;
+  }
+  return -1;
+}
+
+/// A uniform grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1]
+/// the sites of cell c (indices into the sorted arrays).
+struct GridView {
+  double min_x, min_y;
+  double inv_w, inv_h;    ///< cells per unit length
+  double cell_w, cell_h;  ///< unit lengths per cell (for stopping rules only, with margins)
+  int gx, gy;
+  const std::uint32_t* cell_start;
+  const double2* points;  ///< sorted by cell
+
+  // The same monotone function buckets the sites and converts search boxes to cells, so no
+  // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
+  __device__ __forceinline__ int cell_x(double x) const {
+    const double t = ex::mul(ex::sub(x, min_x), inv_w);
+    if (!(t >= 0.0)) return 0;
+    if (t >= static_cast<double>(gx - 1)) return gx - 1;
+    return static_cast<int>(t);
+  }
+  __device__ __forceinline__ int cell_y(double y) const {
+    const double t = ex::mul(ex::sub(y, min_y), inv_h);
+    if (!(t >= 0.0)) return 0;
+    if (t >= static_cast<double>(gy - 1)) return gy - 1;
+    return static_cast<int>(t);
+  }
+};
+
+/// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
+__device__ inline int compare_distance(double2 s, double2 p, double2 q) {
+  if (!(safe_point(s) && safe_point(p) && safe_point(q))) return kUncertain;
+  const auto pdx = ex::exact_difference(p.x, s.x), pdy = ex::exact_difference(p.y, s.y);
+  const auto qdx = ex::exact_difference(q.x, s.x), qdy = ex::exact_difference(q.y, s.y);
+  const auto dp = pdx * pdx + pdy * pdy;
+  const auto dq = qdx * qdx + qdy * qdy;
+  return (dp - dq).sign();
+}
+
+__device__ __forceinline__ double dist2(double2 s, double2 p) {
+  const double dx = ex::sub(p.x, s.x), dy = ex::sub(p.y, s.y);
+  return ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
+}
+
+/// Visits the cells of ring k (Chebyshev distance k from (cx, cy)) clipped to [x0,x1]x[y0,y1].
+template <class F>
+__device__ __forceinline__ void for_ring(int cx, int cy, int k, int x0, int x1, int y0, int y1, F&& f) {
+  const int ylo = max(cy - k, y0), yhi = min(cy + k, y1);
+  for (int y = ylo; y <= yhi; ++y) {
+    if (y == cy - k || y == cy + k) {
+      const int xlo = max(cx - k, x0), xhi = min(cx + k, x1);
+      for (int x = xlo; x <= xhi; ++x) f(x, y);
+    } else {
+      if (cx - k >= x0 && cx - k <= x1) f(cx - k, y);
+      if (cx + k >= x0 && cx + k <= x1) f(cx + k, y);
+    }
+  }
+}
+
+/// Exact nearest neighbour of sorted site `self` (ties between exactly equal distances go to
+/// the smaller index). Returns -1 with *ok = false when a comparison cannot be decided.
+__device__ inline int nearest_site(const GridView& g, int self, double2 s, bool* ok) {
+  const int cx = g.cell_x(s.x), cy = g.cell_y(s.y);
+  const double min_cell = g.cell_w < g.cell_h ? g.cell_w : g.cell_h;
+  int best = -1;
+  double best_d = 0.0;
+  double2 best_p = s;
+  const int kmax = max(g.gx, g.gy);
+  for (int k = 0; k <= kmax; ++k) {
+    for_ring(cx, cy, k, 0, g.gx - 1, 0, g.gy - 1, [&](int x, int y) {
+      const int c = y * g.gx + x;
+      const std::uint32_t end = g.cell_start[c + 1];
+      for (std::uint32_t j = g.cell_start[c]; j < end; ++j) {
+        if (static_cast<int>(j) == self) continue;
+        const double2 p = g.points[j];
+        const double d = dist2(s, p);
+        bool take;
+        if (best < 0) {
+          take = true;
+        } else if (d < best_d * (1.0 - 16.0 * ex::epsilon)) {
+          take = true;
+        } else if (d > best_d * (1.0 + 16.0 * ex::epsilon)) {
+          take = false;
+        } else {
+          const int cmp = compare_distance(s, p, best_p);
+          if (cmp == kUncertain) {
+            *ok = false;
+            take = false;
+          } else {
+            take = cmp < 0 || (cmp == 0 && static_cast<int>(j) < best);
+          }
+        }
+        if (take) {
+          best = static_cast<int>(j);
+          best_d = d;
+          best_p = p;
+        }
+      }
+    });
+    if (!*ok) return -1;
+    // Unvisited sites lie at least k whole cells away (less a rounding slop).
+    if (best >= 0 && sqrt(best_d) < k * min_cell * (1.0 - 1e-9)) break;
+  }
+  return best;
+}
+
+/// Conservative bounding box of circle(a, b, c) intersected with the closed left half-plane of
+/// a->b, computed in floating point with a proven-generous margin. False when the circumcentre
+/// is too ill-conditioned to bound (nearly collinear a, b, c): then the caller searches on.
+__device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, double* x_hi,
+                               double* y_lo, double* y_hi) {
+  constexpr double eps = ex::epsilon;
+  const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+  const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
+  const double t1 = bx * cy, t2 = by * cx;
+  const double d = t1 - t2;
+  const double ad = fabs(d);
+  const double ed = 16.0 * eps * (fabs(t1) + fabs(t2));
+  if (!(ad > 4.0 * ed) || !(ad > 1e-280)) return false;
+  const double nx = cy * bb - by * cc, ny = bx * cc - cx * bb;
+  const double enx = 16.0 * eps * (fabs(cy) * bb + fabs(by) * cc);
+  const double eny = 16.0 * eps * (fabs(bx) * cc + fabs(cx) * bb);
+  const double ux = nx / (2.0 * d), uy = ny / (2.0 * d);
+  // |d_true| >= 0.75 |d|: the quotient's error is at most (e_n + 2|u| e_d) / (1.5 |d|).
+  const double eux = (enx + 2.0 * fabs(ux) * ed) / (1.5 * ad) + 4.0 * eps * fabs(ux);
+  const double euy = (eny + 2.0 * fabs(uy) * ed) / (1.5 * ad) + 4.0 * eps * fabs(uy);
+  const double ox = a.x + ux, oy = a.y + uy;
+  const double r = sqrt(ux * ux + uy * uy);
+  const double m = 2.0 * (eux + euy) + 8.0 * eps * (fabs(a.x) + fabs(a.y) + r) + 1e-300;
+  const double rr = r + 2.0 * m;
+  double xl = fmin(a.x, b.x), xh = fmax(a.x, b.x), yl = fmin(a.y, b.y), yh = fmax(a.y, b.y);
+  const double ex_x[4] = {ox + rr, ox - rr, ox, ox};
+  const double ex_y[4] = {oy, oy, oy + rr, oy - rr};
+  const double len = fabs(bx) + fabs(by);
+  for (int i = 0; i < 4; ++i) {
+    const double px = ex_x[i] - a.x, py = ex_y[i] - a.y;
+    const double side = bx * py - by * px;
+    const double tol = len * 4.0 * m + 8.0 * eps * (fabs(bx * py) + fabs(by * px));
+    if (side > -tol) {
+      xl = fmin(xl, ex_x[i]);
+      xh = fmax(xh, ex_x[i]);
+      yl = fmin(yl, ex_y[i]);
+      yh = fmax(yh, ex_y[i]);
+    }
+  }
+  *x_lo = xl - m;
+  *x_hi = xh + m;
+  *y_lo = yl - m;
+  *y_hi = yh + m;
+  return true;
+}
+
+enum ApexStatus : int { apex_found = 0, apex_none = 1, apex_uncertain = 2 };
+
+/// apex(a->b) over the grid's sites: the site c strictly left of a->b whose circle(a, b, c)
+/// holds no other site under CGAL's perturbation. Rings of cells around the edge's midpoint,
+/// pruned to the cells that meet the current candidate's cap box; stops once the visited
+/// square covers that box. Candidate ids are indices into g.points.
+/// *predicates counts the orient2d and incircle evaluations (for the benchmark's floor count).
+__device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, double2 b, int* status,
+                                unsigned* predicates) {
+  const double2 mid = make_double2(0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y);
+  const int mx = g.cell_x(mid.x), my = g.cell_y(mid.y);
+  int rx0 = 0, rx1 = g.gx - 1, ry0 = 0, ry1 = g.gy - 1;
+  int best = -1;
+  double2 bp = a;
+  bool failed = false;
+  const int kmax = max(g.gx, g.gy);
+  for (int k = 0; k <= kmax; ++k) {
+    for_ring(mx, my, k, rx0, rx1, ry0, ry1, [&](int x, int y) {
+      if (failed) return;
+      // The region may have shrunk since the ring started.
+      if (x < rx0 || x > rx1 || y < ry0 || y > ry1) return;
+      const int c = y * g.gx + x;
+      const std::uint32_t end = g.cell_start[c + 1];
+      for (std::uint32_t j = g.cell_start[c]; j < end; ++j) {
+        const int id = static_cast<int>(j);
+        if (id == ia || id == ib) continue;
+        const double2 p = g.points[j];
+        const int o = orient(a, b, p);
+        ++*predicates;
+        if (o == kUncertain) { failed = true; return; }
+        if (o <= 0) continue;
+        if (best >= 0) {
+          const int in = incircle_perturbed(a, b, bp, p);
+          ++*predicates;
+          if (in == kUncertain) { failed = true; return; }
+          if (in <= 0) continue;
+        }
+        best = id;
+        bp = p;
+        double xl, xh, yl, yh;
+        if (cap_box(a, b, bp, &xl, &xh, &yl, &yh)) {
+          rx0 = g.cell_x(xl);
+          rx1 = g.cell_x(xh);
+          ry0 = g.cell_y(yl);
+          ry1 = g.cell_y(yh);
+        } else {
+          rx0 = 0, rx1 = g.gx - 1, ry0 = 0, ry1 = g.gy - 1;
+        }
+      }
+    });
+    if (failed) break;
+    if (mx - k <= rx0 && mx + k >= rx1 && my - k <= ry0 && my + k >= ry1) break;
+  }
+  if (failed) {
+    *status = apex_uncertain;
+    return -1;
+  }
+  *status = best >= 0 ? apex_found : apex_none;
+  return best;
+}
+
+}  // namespace expanse::detail::cuda

@@ -1,0 +1,57 @@
+#pragma once
+// Bucketing and star bookkeeping shared by both layouts.
+#include <cstdint>
+
+#include "device_geometry.cuh"
+
+namespace expanse::detail::cuda {
+
+/// Stars hold at most this many neighbours; a site with more defers (the seam stage makes its
+/// triangles). Uniform Poisson points reach degree 17 about once in 10^6 sites.
+inline constexpr int kStar = 16;
+inline constexpr std::uint32_t kClosedBit = 1u << 16;
+inline constexpr std::uint32_t kDeferredBit = 1u << 17;
+
+__device__ __forceinline__ int star_degree(std::uint32_t info) { return static_cast<int>(info & 255u); }
+__device__ __forceinline__ int star_start(std::uint32_t info) { return static_cast<int>((info >> 8) & 255u); }
+__device__ __forceinline__ bool star_closed(std::uint32_t info) { return (info & kClosedBit) != 0; }
+__device__ __forceinline__ bool star_deferred(std::uint32_t info) { return (info & kDeferredBit) != 0; }
+
+/// t-th neighbour of site o in CCW order (t may be -1 or deg for closed stars: wraps).
+__device__ __forceinline__ int star_at(const int* star, std::uint32_t info, int o, int t) {
+  const int deg = star_degree(info);
+  t = (t % deg + deg) % deg;
+  return star[static_cast<std::size_t>(o) * kStar + ((star_start(info) + t) & (kStar - 1))];
+}
+
+__device__ __forceinline__ int star_find(const int* star, std::uint32_t info, int o, int u) {
+  const int deg = star_degree(info);
+  for (int t = 0; t < deg; ++t)
+    if (star_at(star, info, o, t) == u) return t;
+  return -1;
+}
+
+/// Index of the CCW triangle (x, y, z) in the output: its owner is its smallest vertex, and the
+/// owner numbers its own triangles in star order from offset[owner]. -1 if the owner deferred.
+__device__ inline int triangle_index(const int* star, const std::uint32_t* info, const int* offset,
+                                     int x, int y, int z) {
+  int o = x, u = y, w = z;
+  if (y < o && y < z) {
+    o = y, u = z, w = x;
+  } else if (z < o && z < y) {
+    o = z, u = x, w = y;
+  }
+  const std::uint32_t inf = info[o];
+  if (star_deferred(inf)) return -1;
+  const int deg = star_degree(inf);
+  const int tris = star_closed(inf) ? deg : deg - 1;
+  int count = 0;
+  for (int t = 0; t < tris; ++t) {
+    const int a = star_at(star, inf, o, t), b = star_at(star, inf, o, t + 1);
+    if (a == u) return b == w ? offset[o] + count : -1;
+    if (o < a && o < b) ++count;
+  }
+  return -1;
+}
+
+}  // namespace expanse::detail::cuda

@@ -1,0 +1,347 @@
+// Per-site star layout: every site grows its own star independently (docs/algorithm.md).
+//
+//   upload -> bucket (cell keys, radix sort, gather, cell starts, hull predecessors)
+//          -> stars (nearest neighbour, CCW walk, CW walk; count owned triangles)
+//          -> scan (triangle offsets)  [one 8-byte read-back: output size + deferred count]
+//          -> emit (triangles in site ids + neighbours from the stars) -> download
+//
+// Work runs in sorted-by-cell order ("local ids"): neighbouring threads walk neighbouring
+// cells, so their point reads share cache lines. A triangle is owned by its smallest local id;
+// any total order works, each triangle is still emitted exactly once.
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "cuda_internal.hpp"
+#include "star_common.cuh"
+
+namespace expanse::detail::cuda {
+namespace {
+
+struct GridShape {
+  double min_x, min_y, inv_w, inv_h, cell_w, cell_h;
+  int gx, gy;
+};
+
+GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per_bucket) {
+  GridShape s{};
+  const double w = box.max_x - box.min_x, h = box.max_y - box.min_y;
+  const double cells = std::max(1.0, static_cast<double>(n) / std::max(0.25, sites_per_bucket));
+  double side = std::sqrt(std::max(w, 1e-300) * std::max(h, 1e-300) / cells);
+  if (!(side > 0.0)) side = std::max(w, h);
+  auto count = [&](double extent) {
+    const double c = std::ceil(extent / side);
+    return static_cast<int>(std::clamp(c, 1.0, 16384.0));
+  };
+  s.gx = count(w);
+  s.gy = count(h);
+  s.min_x = box.min_x;
+  s.min_y = box.min_y;
+  s.inv_w = w > 0 ? s.gx / w : 0.0;
+  s.inv_h = h > 0 ? s.gy / h : 0.0;
+  s.cell_w = w > 0 ? w / s.gx : 1.0;
+  s.cell_h = h > 0 ? h / s.gy : 1.0;
+  return s;
+}
+
+__global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::uint32_t* keys, int* ids) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const double2 p = points[i];
+  keys[i] = static_cast<std::uint32_t>(g.cell_y(p.y) * g.gx + g.cell_x(p.x));
+  ids[i] = i;
+}
+
+__global__ void gather_kernel(const int* sorted_ids, const double2* points, int n, double2* sorted_points, int* rank) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const int id = sorted_ids[i];
+  sorted_points[i] = points[id];
+  rank[id] = i;
+}
+
+__global__ void cell_start_kernel(const std::uint32_t* keys, int n, int cells, std::uint32_t* cell_start) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const int key = static_cast<int>(keys[i]);
+  const int prev = i == 0 ? -1 : static_cast<int>(keys[i - 1]);
+  for (int c = prev + 1; c <= key; ++c) cell_start[c] = static_cast<std::uint32_t>(i);
+  if (i == n - 1)
+    for (int c = key + 1; c <= cells; ++c) cell_start[c] = static_cast<std::uint32_t>(n);
+}
+
+__global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank, int* pred) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= h) return;
+  pred[rank[hull[t]]] = rank[hull[t == 0 ? h - 1 : t - 1]];
+}
+
+__global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, int n, int* star,
+                                                   std::uint32_t* info, int* owned,
+                                                   unsigned int* counters) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const double2 s = g.points[i];
+  int* row = star + static_cast<std::size_t>(i) * kStar;
+  bool ok = true;
+  unsigned predicates = 0;
+  const int v0 = nearest_site(g, i, s, &ok);
+  ok = ok && v0 >= 0;
+  int deg = 0, m = 0;
+  bool closed = false;
+  if (ok) {
+    // Counter-clockwise: (s, v, apex(s->v)) until the star closes or s->v is an outer edge.
+    row[0] = v0;
+    deg = 1;
+    const int ps = pred[i];
+    int v = v0;
+    while (ps != v) {
+      int status;
+      const int c = find_apex(g, i, s, v, g.points[v], &status, &predicates);
+      if (status != apex_found) { ok = false; break; }
+      if (c == v0) { closed = true; break; }
+      if (deg + m >= kStar) { ok = false; break; }
+      row[deg++] = c;
+      v = c;
+    }
+  }
+  if (ok && !closed) {
+    // Clockwise from v0: (v, s, apex(v->s)); stored from the row's end so that the star reads
+    // counter-clockwise starting at index kStar - m, wrapping.
+    int v = v0;
+    while (pred[v] != i) {
+      int status;
+      const int c = find_apex(g, v, g.points[v], i, s, &status, &predicates);
+      if (status != apex_found || c == v0) { ok = false; break; }
+      if (deg + m >= kStar) { ok = false; break; }
+      row[kStar - 1 - m] = c;
+      ++m;
+      v = c;
+    }
+  }
+  // One atomic per warp for the predicate count; the deferred count is rare.
+  const unsigned active = __activemask();
+  const unsigned warp_total = __reduce_add_sync(active, predicates);
+  if ((threadIdx.x & 31) == __ffs(active) - 1)
+    atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
+  if (!ok) {
+    info[i] = kDeferredBit;
+    owned[i] = 0;
+    atomicAdd(counters, 1u);
+    return;
+  }
+  const int total = deg + m;
+  const std::uint32_t inf = static_cast<std::uint32_t>(total) |
+                            (static_cast<std::uint32_t>((kStar - m) & (kStar - 1)) << 8) |
+                            (closed ? kClosedBit : 0u);
+  info[i] = inf;
+  const int tris = closed ? total : total - 1;
+  int count = 0;
+  for (int t = 0; t < tris; ++t) {
+    const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
+    count += (i < a && i < b);
+  }
+  owned[i] = count;
+}
+
+__global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
+                                                   const int* offset, const int* sorted_ids, int n,
+                                                   bool with_neighbors, int* triangles, int* neighbors) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const std::uint32_t inf = info[i];
+  if (star_deferred(inf)) return;
+  int out = offset[i];
+  if (out == offset[i + 1]) return;
+  const int deg = star_degree(inf);
+  const bool closed = star_closed(inf);
+  const int tris = closed ? deg : deg - 1;
+  for (int t = 0; t < tris; ++t) {
+    const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
+    if (!(i < a && i < b)) continue;
+    int* tri = triangles + 3 * static_cast<std::size_t>(out);
+    tri[0] = sorted_ids[i];
+    tri[1] = sorted_ids[a];
+    tri[2] = sorted_ids[b];
+    if (with_neighbors) {
+      int across_ab = -1;  // opposite i: the triangle (b, a, r)
+      int r = -1;
+      const std::uint32_t ia = info[a], ib = info[b];
+      if (!star_deferred(ia)) {
+        const int p = star_find(star, ia, a, b);
+        if (p >= 0 && (p > 0 || star_closed(ia))) r = star_at(star, ia, a, p - 1);
+      } else if (!star_deferred(ib)) {
+        const int q = star_find(star, ib, b, a);
+        if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) r = star_at(star, ib, b, q + 1);
+      }
+      if (r >= 0) across_ab = triangle_index(star, info, offset, b, a, r);
+      int across_bi = -1;  // opposite a: (i, b, next)
+      if (closed || t + 2 < deg)
+        across_bi = triangle_index(star, info, offset, i, b, star_at(star, inf, i, t + 2));
+      int across_ia = -1;  // opposite b: (i, previous, a)
+      if (closed || t >= 1)
+        across_ia = triangle_index(star, info, offset, i, star_at(star, inf, i, t - 1), a);
+      int* nb = neighbors + 3 * static_cast<std::size_t>(out);
+      nb[0] = across_ab;
+      nb[1] = across_bi;
+      nb[2] = across_ia;
+    }
+    ++out;
+  }
+}
+
+constexpr int kThreads = 256;
+int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
+
+}  // namespace
+
+void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
+  using clock = std::chrono::steady_clock;
+  const cudaStream_t stream = ctx.stream;
+  const auto& points = input.sites.points;
+  const std::size_t n = points.size();
+  if (n >= (std::size_t{1} << 30))
+    throw Error(ErrorCode::too_large, "CUDA backend: more than 2^30 sites (triangle ids would overflow)");
+
+  const GridShape shape = make_grid_shape(input.sites.bounds, n, input.layout.sites_per_bucket);
+  const std::size_t cells = static_cast<std::size_t>(shape.gx) * shape.gy;
+  int key_bits = 1;
+  while ((std::size_t{1} << key_bits) < cells + 1) ++key_bits;
+
+  // Fail early, with the right error, when the working set cannot fit.
+  {
+    const std::size_t per_site = 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 5 * sizeof(int) +
+                                 kStar * sizeof(int) + 2 * 2 * 3 * sizeof(int) + 64;
+    const std::size_t need = n * per_site + cells * sizeof(std::uint32_t) + (std::size_t{64} << 20);
+    std::size_t free_bytes = 0, total_bytes = 0;
+    EXPANSE_CUDA(cudaMemGetInfo(&free_bytes, &total_bytes));
+    if (need > free_bytes)
+      throw Error(ErrorCode::too_large, "CUDA backend: " + std::to_string(n) + " sites need about " +
+                                            std::to_string(need >> 20) + " MiB of device memory, " +
+                                            std::to_string(free_bytes >> 20) + " MiB free");
+  }
+
+  StageTimer timer(stream);
+  const auto host_start = clock::now();
+  DeviceArray<double2> d_points(n, stream);
+  DeviceArray<int> d_hull(input.hull.sites.size(), stream);
+  timer.begin("upload");
+  static_assert(sizeof(Point2) == sizeof(double2));
+  ctx.staging->upload(d_points.get(), points.data(), n * sizeof(double2), stream);
+  ctx.staging->upload(d_hull.get(), input.hull.sites.data(), d_hull.bytes(), stream);
+  timer.end();
+  const auto host_uploaded = clock::now();
+
+  DeviceArray<std::uint32_t> d_keys(n, stream), d_keys_sorted(n, stream);
+  DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream), d_rank(n, stream), d_pred(n, stream);
+  DeviceArray<double2> d_sorted(n, stream);
+  DeviceArray<std::uint32_t> d_cell_start(cells + 1, stream);
+  DeviceArray<int> d_star(n * kStar, stream);
+  DeviceArray<std::uint32_t> d_info(n, stream);
+  DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
+  DeviceArray<unsigned int> d_counters(4, stream);
+
+  std::size_t sort_bytes = 0, scan_bytes = 0;
+  EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
+                                               d_sorted_ids.get(), static_cast<int>(n), 0, key_bits, stream));
+  EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(nullptr, scan_bytes, d_owned.get(), d_offset.get() + 1,
+                                             static_cast<int>(n), stream));
+  DeviceArray<unsigned char> d_temp(std::max(sort_bytes, scan_bytes), stream);
+
+  GridView g{};
+  g.min_x = shape.min_x;
+  g.min_y = shape.min_y;
+  g.inv_w = shape.inv_w;
+  g.inv_h = shape.inv_h;
+  g.cell_w = shape.cell_w;
+  g.cell_h = shape.cell_h;
+  g.gx = shape.gx;
+  g.gy = shape.gy;
+
+  timer.begin("bucket");
+  cell_keys_kernel<<<blocks_for(n), kThreads, 0, stream>>>(g, d_points.get(), static_cast<int>(n), d_keys.get(), d_ids.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  std::size_t temp_bytes = d_temp.bytes();
+  EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
+                                               d_sorted_ids.get(), static_cast<int>(n), 0, key_bits, stream));
+  gather_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_points.get(), static_cast<int>(n),
+                                                       d_sorted.get(), d_rank.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  cell_start_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_keys_sorted.get(), static_cast<int>(n),
+                                                           static_cast<int>(cells), d_cell_start.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
+  if (!input.hull.sites.empty()) {
+    hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
+        d_hull.get(), static_cast<int>(input.hull.sites.size()), d_rank.get(), d_pred.get());
+    EXPANSE_CUDA(cudaGetLastError());
+  }
+  EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, d_counters.bytes(), stream));
+  EXPANSE_CUDA(cudaMemsetAsync(d_offset.get(), 0, sizeof(int), stream));
+  timer.end();
+
+  g.cell_start = d_cell_start.get();
+  g.points = d_sorted.get();
+  timer.begin("stars");
+  star_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(g, d_pred.get(), static_cast<int>(n), d_star.get(),
+                                                      d_info.get(), d_owned.get(), d_counters.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  timer.end();
+
+  timer.begin("scan");
+  temp_bytes = d_temp.bytes();
+  EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(d_temp.get(), temp_bytes, d_owned.get(), d_offset.get() + 1,
+                                             static_cast<int>(n), stream));
+  timer.end();
+
+  // The one synchronisation before the output: its size.
+  unsigned int sizes[5] = {0, 0, 0, 0, 0};  // triangles, then the 4 counter words
+  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[0], d_offset.get() + n, sizeof(int), cudaMemcpyDeviceToHost, stream));
+  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[1], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+  EXPANSE_CUDA(cudaStreamSynchronize(stream));
+  const std::size_t triangle_count = sizes[0];
+  const bool with_neighbors = true;
+
+  DeviceArray<int> d_triangles(3 * triangle_count, stream);
+  DeviceArray<int> d_neighbors(with_neighbors ? 3 * triangle_count : 0, stream);
+  timer.begin("emit");
+  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids.get(),
+                                                      static_cast<int>(n), with_neighbors, d_triangles.get(),
+                                                      d_neighbors.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  timer.end();
+
+  const auto host_emit = clock::now();
+  auto& partial = result.partial;
+  partial.triangles.resize(triangle_count);
+  if (with_neighbors) partial.neighbors.resize(triangle_count);
+  const auto host_allocated = clock::now();
+  timer.begin("download");
+  ctx.staging->download(partial.triangles.data(), d_triangles.get(), d_triangles.bytes(), stream);
+  if (with_neighbors) ctx.staging->download(partial.neighbors.data(), d_neighbors.get(), d_neighbors.bytes(), stream);
+  timer.end();
+  const auto host_done = clock::now();
+
+  partial.deferred_expansions = sizes[1];
+  RunCounters& counters = last_run_counters();
+  counters = {};
+  std::uint64_t predicates = 0;
+  std::memcpy(&predicates, &sizes[3], sizeof predicates);
+  counters.predicates = predicates;
+  counters.bytes_to_device = n * sizeof(double2) + d_hull.bytes();
+  counters.bytes_to_host = d_triangles.bytes() + d_neighbors.bytes() + 2 * sizeof(int);
+  counters.triangles = triangle_count;
+  result.iterations = 1;
+  result.device_stages = timer.collect();
+  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  result.host_stages.push_back({"cuda upload (host)", ms(host_start, host_uploaded)});
+  result.host_stages.push_back({"cuda device work (host wait)", ms(host_uploaded, host_emit)});
+  result.host_stages.push_back({"cuda output allocation (host)", ms(host_emit, host_allocated)});
+  result.host_stages.push_back({"cuda download (host)", ms(host_allocated, host_done)});
+}
+
+}  // namespace expanse::detail::cuda

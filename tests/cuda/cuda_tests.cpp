@@ -1,0 +1,221 @@
+// CUDA backend tests. Exit 0: all passed; 1: a failure; 77: no CUDA device (ctest: skipped).
+//
+//   expanse_cuda_tests            every test
+//   expanse_cuda_tests --small    a few small cases (for compute-sanitizer)
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "expanse/check.hpp"
+#include "expanse/cuda_interop.hpp"
+#include "expanse/error.hpp"
+#include "expanse/generate.hpp"
+#include "expanse/triangulate.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "predicates/predicates.hpp"
+
+using namespace expanse;
+using namespace expanse::detail;
+
+namespace {
+
+int failures = 0;
+
+void fail(const std::string& test, const std::string& what) {
+  ++failures;
+  std::printf("FAIL %s: %s\n", test.c_str(), what.c_str());
+}
+
+/// Checks a backend's partial triangulation on its own terms: every triangle CCW, distinct,
+/// with an empty perturbed circumcircle (brute force for small inputs), neighbours consistent,
+/// and complete (2n - h - 2) when nothing was deferred.
+void check_partial(const std::string& test, const SiteSet& sites, const Hull& hull,
+                   const PartialTriangulation& partial, bool brute_force) {
+  const auto& p = sites.points;
+  const std::size_t n = p.size();
+  std::set<std::array<int, 3>> seen;
+  std::map<std::pair<int, int>, int> edge_owner;
+  for (std::size_t t = 0; t < partial.triangles.size(); ++t) {
+    auto tri = partial.triangles[t];
+    for (int v : tri)
+      if (v < 0 || static_cast<std::size_t>(v) >= n) return fail(test, "vertex id out of range");
+    if (orient2d(p[tri[0]], p[tri[1]], p[tri[2]]) <= 0) return fail(test, "triangle not CCW: " + std::to_string(t));
+    auto key = tri;
+    std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+    if (!seen.insert(key).second) return fail(test, "triangle emitted twice: " + std::to_string(t));
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+      if (!edge_owner.emplace(std::make_pair(a, b), static_cast<int>(t)).second)
+        return fail(test, "directed edge used twice");
+    }
+    if (brute_force) {
+      for (std::size_t d = 0; d < n; ++d) {
+        if (static_cast<int>(d) == tri[0] || static_cast<int>(d) == tri[1] || static_cast<int>(d) == tri[2]) continue;
+        if (incircle_perturbed(p[tri[0]], p[tri[1]], p[tri[2]], p[d]) > 0)
+          return fail(test, "triangle " + std::to_string(t) + " is not Delaunay (site " + std::to_string(d) + " inside)");
+      }
+    }
+  }
+  if (!partial.neighbors.empty()) {
+    if (partial.neighbors.size() != partial.triangles.size()) return fail(test, "neighbors size mismatch");
+    for (std::size_t t = 0; t < partial.triangles.size(); ++t) {
+      const auto tri = partial.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+        const int nb = partial.neighbors[t][k];
+        auto it = edge_owner.find({b, a});
+        const int expect = it == edge_owner.end() ? -1 : it->second;
+        if (nb != expect) {
+          // -1 is allowed where the other triangle exists but its owner deferred; never a wrong id.
+          if (nb != -1 || partial.deferred_expansions == 0)
+            return fail(test, "neighbor of triangle " + std::to_string(t) + " across " + std::to_string(k) + " is " +
+                                  std::to_string(nb) + ", expected " + std::to_string(expect));
+        }
+      }
+    }
+  }
+  if (partial.deferred_expansions == 0) {
+    const std::size_t expect = 2 * n - hull.sites.size() - 2;
+    if (partial.triangles.size() != expect)
+      return fail(test, "triangle count " + std::to_string(partial.triangles.size()) + ", expected " + std::to_string(expect));
+  }
+}
+
+void grow_case(Backend& backend, const std::string& name, const std::vector<Point2>& input, const Layout& layout,
+               bool brute_force, bool expect_no_deferral) {
+  const std::string test = name + " n=" + std::to_string(input.size()) +
+                           (layout.seeding == Layout::Seeding::paper_blocks ? " paper" : " per-site");
+  try {
+    SiteSet sites = prepare_sites(input);
+    Hull hull = convex_hull(sites);
+    if (hull.collinear || sites.size() < 3) return;
+    GrowResult r = backend.grow(GrowInput{sites, hull, layout});
+    const int before = failures;
+    check_partial(test, sites, hull, r.partial, brute_force);
+    if (expect_no_deferral && r.partial.deferred_expansions != 0)
+      fail(test, std::to_string(r.partial.deferred_expansions) + " deferred expansions (expected none)");
+    if (r.device_stages.empty()) fail(test, "no device stage times");
+    if (failures == before)
+      std::printf("ok   %s: %zu triangles, %zu deferred\n", test.c_str(), r.partial.triangles.size(),
+                  r.partial.deferred_expansions);
+  } catch (const Error& e) {
+    fail(test, std::string("threw ") + to_string(e.code()) + ": " + e.what());
+  }
+}
+
+std::vector<Point2> square_grid(int side) {
+  std::vector<Point2> p;
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) p.push_back({static_cast<double>(x), static_cast<double>(y)});
+  return p;
+}
+
+std::vector<Point2> circle_and_centre(int count) {
+  // Exactly cocircular points: the lattice points on a circle of radius 5^k (Pythagorean).
+  std::vector<Point2> p{{0, 0}};
+  const int r = 65;
+  for (int x = -r; x <= r; ++x)
+    for (int y = -r; y <= r; ++y)
+      if (x * x + y * y == r * r) p.push_back({static_cast<double>(x), static_cast<double>(y)});
+  (void)count;
+  return p;
+}
+
+void full_pipeline_case(const std::string& name, const std::vector<Point2>& points, const Options& options) {
+  const std::string test = "triangulate " + name + " n=" + std::to_string(points.size());
+  try {
+    Mesh mesh = triangulate(points, options);
+    CheckReport report = check_mesh(points, mesh);
+    if (!report.ok) return fail(test, report.problems.empty() ? "check_mesh failed" : report.problems.front());
+    std::printf("ok   %s: %zu triangles (gpu %zu, seam %zu, deferred %zu)\n", test.c_str(), mesh.triangles.size(),
+                mesh.stats.gpu_triangles, mesh.stats.seam_triangles, mesh.stats.deferred_expansions);
+  } catch (const Error& e) {
+    fail(test, std::string("threw ") + to_string(e.code()) + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool small = argc > 1 && std::strcmp(argv[1], "--small") == 0;
+  std::vector<DeviceDescription> devices;
+  try {
+    devices = list_cuda_devices();
+  } catch (const Error& e) {
+    std::printf("SKIP: %s\n", e.what());
+    return 77;
+  }
+  if (devices.empty()) {
+    std::printf("SKIP: no CUDA device\n");
+    return 77;
+  }
+  for (const auto& d : devices) std::printf("device %d: %s (%s)\n", d.index, d.name.c_str(), d.details.c_str());
+
+  std::unique_ptr<Backend> backend;
+  try {
+    backend = make_cuda_backend(-1);  // runs the device self-test
+    std::printf("ok   backend + device self-test on %s\n", backend->device_name().c_str());
+  } catch (const Error& e) {
+    std::printf("FAIL backend creation: %s\n", e.what());
+    return 1;
+  }
+
+  Layout per_site;
+  Layout paper = Layout::paper();
+  std::vector<Layout> layouts{per_site};
+  if (std::getenv("EXPANSE_CUDA_TEST_PAPER")) layouts.push_back(paper);
+  for (const Layout& layout : layouts) {
+    grow_case(*backend, "uniform", generate_points("uniform", 300, 1), layout, true, false);
+    grow_case(*backend, "grid", square_grid(24), layout, true, true);
+    grow_case(*backend, "circle+centre", circle_and_centre(0), layout, true, false);
+    grow_case(*backend, "clusters", generate_points("gaussian", 500, 2), layout, true, false);
+    if (small) continue;
+    for (const char* dist : {"uniform", "gaussian", "clusters", "grid", "rotated_grid", "disk", "kuzmin",
+                             "duplicates", "near_collinear", "thin_circle", "tiny", "huge", "offset"}) {
+      try {
+        grow_case(*backend, dist, generate_points(dist, 1500, 7), layout, true, false);
+      } catch (const Error& e) {
+        fail(dist, e.what());
+      }
+    }
+    grow_case(*backend, "grid", square_grid(256), layout, false, true);
+    grow_case(*backend, "uniform", generate_points("uniform", 200000, 3), layout, false, false);
+    grow_case(*backend, "kuzmin", generate_points("kuzmin", 200000, 4), layout, false, false);
+  }
+
+  if (!small) {
+    Options options;
+    options.backend = BackendKind::cuda;
+    full_pipeline_case("uniform", generate_points("uniform", 20000, 5), options);
+    full_pipeline_case("grid", generate_points("grid", 10000, 5), options);
+    full_pipeline_case("circle", generate_points("circle", 2000, 5), options);
+    // Interop: points already on the device, work on the caller's stream.
+    try {
+      auto points = generate_points("uniform", 5000, 9);
+      cudaStream_t stream = nullptr;
+      cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking);
+      double* d_xy = nullptr;
+      cudaMalloc(&d_xy, points.size() * sizeof(Point2));
+      cudaMemcpy(d_xy, points.data(), points.size() * sizeof(Point2), cudaMemcpyHostToDevice);
+      Mesh mesh = cuda::triangulate_device(d_xy, points.size(), stream);
+      cudaFree(d_xy);
+      cudaStreamDestroy(stream);
+      CheckReport report = check_mesh(points, mesh);
+      if (!report.ok) fail("interop", report.problems.empty() ? "check_mesh failed" : report.problems.front());
+      else std::printf("ok   interop triangulate_device on a caller stream: %zu triangles\n", mesh.triangles.size());
+    } catch (const Error& e) {
+      fail("interop", e.what());
+    }
+  }
+
+  std::printf("%s: %d failure(s)\n", failures ? "FAILED" : "PASSED", failures);
+  return failures ? 1 : 0;
+}
