@@ -122,7 +122,7 @@ struct Expansion {
     if (size == 0) return 0;
     return term[size - 1] > 0.0 ? 1 : -1;
   }
-  /// The largest term: within a relative 2^-52 of the value once compressed.
+  /// A double close to the value (the rounded sum of the terms, smallest first).
   EXPANSE_HD double approximate() const {
     double total = 0.0;
     for (int i = 0; i < size; ++i) total = add(total, term[i]);
