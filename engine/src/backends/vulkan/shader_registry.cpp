@@ -1,0 +1,15 @@
+// The only translation unit that includes the generated SPIR-V headers (shaders/CMakeLists.txt
+// makes it depend on them).
+#include "backends/vulkan/shader_registry.hpp"
+
+#include "expanse_spirv/blocks_spv.h"
+#include "expanse_spirv/predicate_test_spv.h"
+#include "expanse_spirv/star_spv.h"
+
+namespace expanse::detail::vk::spirv {
+
+std::span<const std::uint32_t> star() { return expanse_spirv_star; }
+std::span<const std::uint32_t> blocks() { return expanse_spirv_blocks; }
+std::span<const std::uint32_t> predicate_test() { return expanse_spirv_predicate_test; }
+
+}  // namespace expanse::detail::vk::spirv

@@ -1,0 +1,12 @@
+#pragma once
+// SPIR-V of the kernels in shaders/, compiled at build time and embedded as uint32_t words.
+#include <cstdint>
+#include <span>
+
+namespace expanse::detail::vk::spirv {
+
+std::span<const std::uint32_t> star();
+std::span<const std::uint32_t> blocks();
+std::span<const std::uint32_t> predicate_test();
+
+}  // namespace expanse::detail::vk::spirv

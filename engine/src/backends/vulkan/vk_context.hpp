@@ -1,0 +1,213 @@
+#pragma once
+// Vulkan plumbing for the compute backend: one owner of instance/device/queue (Context) that
+// creates everything else (Buffer, Kernel) and records/submits work (Recording).
+//
+// Ownership follows Kompute: Context is non-copyable and outlives what it creates; it either
+// owns its VkInstance/VkDevice or borrows ones the host application already has. Every VkResult
+// goes through check(), which throws expanse::Error(device_error) keeping the native code.
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "expanse/error.hpp"
+#include "expanse/triangulate.hpp"
+
+namespace expanse::detail::vk {
+
+/// Throws Error(device_error, "<what>: <VkResult name>", result) unless result is VK_SUCCESS.
+void check(VkResult result, const char* what);
+const char* result_name(VkResult result);
+
+/// What we learned about one physical device, in selection order.
+struct PhysicalDevice {
+  VkPhysicalDevice handle = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties{};
+  std::uint32_t queue_family = 0;
+  bool has_compute_queue = false;
+  bool fp64 = false;
+  std::uint32_t subgroup_size = 0;
+  std::uint32_t timestamp_bits = 0;
+  VkDeviceSize max_allocation = 0;
+  std::string unusable;  ///< empty when usable; else why not (e.g. no shaderFloat64)
+  DeviceDescription describe(int index) const;
+};
+
+/// The VkInstance (+ validation messenger when EXPANSE_VULKAN_VALIDATION=1).
+class Instance {
+ public:
+  /// Throws Error(backend_unavailable) when no Vulkan loader/driver can make an instance.
+  Instance();
+  /// Borrows an instance the application created; it is not destroyed here.
+  explicit Instance(VkInstance borrowed);
+  ~Instance();
+  Instance(const Instance&) = delete;
+  Instance& operator=(const Instance&) = delete;
+
+  VkInstance handle() const { return instance_; }
+  /// Physical devices ordered discrete, integrated, virtual, CPU (lavapipe), other.
+  const std::vector<PhysicalDevice>& devices() const { return devices_; }
+  bool validation() const { return validation_; }
+  /// Validation messages so far (warnings and errors); any is a failure.
+  std::size_t message_count() const { return messages_.load(); }
+  std::string first_message() const;
+  /// Throws Error(device_error) if the validation layer reported anything since `since`.
+  void throw_if_messages(std::size_t since) const;
+
+ private:
+  void enumerate();
+  void release();
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                   VkDebugUtilsMessageTypeFlagsEXT,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT*,
+                                                   void*);
+  VkInstance instance_ = VK_NULL_HANDLE;
+  bool owned_ = true;
+  bool validation_ = false;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  std::vector<PhysicalDevice> devices_;
+  std::atomic<std::size_t> messages_{0};
+  mutable std::mutex message_mutex_;
+  std::string first_message_;
+};
+
+class Context;
+
+/// A storage buffer in device memory, or a host-visible staging buffer.
+class Buffer {
+ public:
+  Buffer(Context& context, VkDeviceSize bytes, bool host_visible);
+  ~Buffer();
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  /// Host pointer for staging buffers (persistently mapped), nullptr otherwise.
+  void* mapped() const { return mapped_; }
+
+ private:
+  Context& context_;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+/// One compute pipeline: shader module, layouts, a descriptor set of `bindings` storage buffers,
+/// push constants, and specialization constants by constant_id (0: workgroup size).
+class Kernel {
+ public:
+  Kernel(Context& context, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
+         std::uint32_t push_constant_bytes, std::span<const std::uint32_t> specialization);
+  ~Kernel();
+  Kernel(const Kernel&) = delete;
+  Kernel& operator=(const Kernel&) = delete;
+  /// Points the descriptor set at these buffers (binding i = buffers[i]). Only between
+  /// submissions: the set is not in use by any pending command buffer then.
+  void bind(std::span<Buffer* const> buffers);
+  VkPipeline pipeline() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  VkDescriptorSet set() const { return set_; }
+  std::uint32_t push_constant_bytes() const { return push_bytes_; }
+
+ private:
+  void release();
+  Context& context_;
+  std::uint32_t bindings_ = 0;
+  std::uint32_t push_bytes_ = 0;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+/// One command buffer being recorded; submit() waits for completion and returns the device
+/// times between consecutive timestamp() marks.
+class Recording {
+ public:
+  explicit Recording(Context& context);
+  ~Recording();
+  Recording(const Recording&) = delete;
+  Recording& operator=(const Recording&) = delete;
+
+  void copy(const Buffer& from, Buffer& to, VkDeviceSize bytes, VkDeviceSize from_offset = 0,
+            VkDeviceSize to_offset = 0);
+  void fill(Buffer& buffer, std::uint32_t value);
+  void dispatch(const Kernel& kernel, const void* push_constants, std::uint32_t groups);
+  /// Makes all earlier transfer/compute writes visible to all later transfer/compute access.
+  void barrier();
+  /// Marks a stage boundary; the stage ending here is called `name`.
+  void timestamp(std::string name);
+  /// Submits, waits, and returns the timed stages (empty when the queue has no timestamps).
+  std::vector<StageTime> submit();
+
+ private:
+  void release();
+  Context& context_;
+  VkCommandBuffer commands_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  std::vector<std::string> marks_;
+  bool submitted_ = false;
+};
+
+/// The device owner. Not copyable, not movable: everything it creates refers back to it.
+class Context {
+ public:
+  /// Opens physical device `index` of instance->devices() (-1: the first usable one).
+  /// Throws Error(backend_unavailable) with the reason when that device cannot be used.
+  Context(std::shared_ptr<Instance> instance, int index);
+  /// Borrows a device the application already has. It must have been created with
+  /// shaderFloat64 enabled and a compute-capable queue family `queue_family`.
+  Context(std::shared_ptr<Instance> instance, VkPhysicalDevice physical, VkDevice device,
+          std::uint32_t queue_family);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  VkCommandPool command_pool() const { return pool_; }
+  VkQueryPool query_pool() const { return queries_; }
+  std::uint32_t query_capacity() const { return query_capacity_; }
+  const PhysicalDevice& physical() const { return physical_; }
+  Instance& instance() const { return *instance_; }
+  std::string name() const { return physical_.properties.deviceName; }
+  const VkPhysicalDeviceLimits& limits() const { return physical_.properties.limits; }
+  /// Largest buffer a single storage binding may cover (min of range and allocation limits).
+  VkDeviceSize max_buffer_bytes() const;
+  /// Throws Error(too_large) naming `what` if `bytes` exceeds max_buffer_bytes().
+  void require_fits(VkDeviceSize bytes, const char* what) const;
+  std::uint32_t memory_type(std::uint32_t allowed, VkMemoryPropertyFlags wanted,
+                            VkMemoryPropertyFlags fallback) const;
+  /// Serialises use of the queue and the kernels' descriptor sets.
+  std::mutex& mutex() { return mutex_; }
+
+  /// Compiled once per context, by name.
+  Kernel& kernel(const std::string& name, std::span<const std::uint32_t> spirv,
+                 std::uint32_t bindings, std::uint32_t push_constant_bytes,
+                 std::span<const std::uint32_t> specialization);
+
+ private:
+  void create_common();
+  void release();
+  std::shared_ptr<Instance> instance_;
+  PhysicalDevice physical_;
+  bool owned_ = true;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  std::uint32_t query_capacity_ = 0;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::mutex mutex_;
+  std::vector<std::pair<std::string, std::unique_ptr<Kernel>>> kernels_;
+};
+
+}  // namespace expanse::detail::vk

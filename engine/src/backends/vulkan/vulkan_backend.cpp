@@ -1,0 +1,503 @@
+// The Vulkan Backend: per-site stars (default) and the paper's blocks, on any Vulkan 1.1+
+// device with 64-bit floats. Host side only: bucketing, buffers, dispatch, read-back.
+// Vulkan structs are value-initialised from their sType alone ({VK_STRUCTURE_TYPE_...}).
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include "backends/vulkan/vulkan_backend.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include "backends/backend.hpp"
+#include "backends/vulkan/shader_registry.hpp"
+
+namespace expanse::detail {
+namespace vk {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+struct Registry {
+  std::shared_ptr<Instance> instance;  // declared first: destroyed after the contexts
+  std::map<int, std::shared_ptr<Context>> contexts;
+  std::mutex mutex;
+};
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+std::shared_ptr<Instance> shared_instance_locked(Registry& r) {
+  if (!r.instance) r.instance = std::make_shared<Instance>();
+  return r.instance;
+}
+
+// Cell index on the host: the same two correctly rounded operations as cell_coord() in
+// shaders/include/grid.glsl (this file builds with -ffp-contract=off), so host bucketing and
+// device box tests agree bit for bit.
+int cell_coord(double x, double origin, double inv_width, int cells) {
+  const double t = (x - origin) * inv_width;
+  return int(std::clamp(std::floor(t), 0.0, double(cells - 1)));
+}
+
+// Device predicates are only valid when no value they form can be subnormal (see
+// shaders/include/predicates.glsl): every nonzero |coordinate| must be at least 2^-200.
+bool device_safe(const SiteSet& sites) {
+  for (const Point2& p : sites.points)
+    for (double v : {p.x, p.y})
+      if (v != 0.0 && std::fabs(v) < 0x1p-200) return false;
+  return true;
+}
+
+struct GridParams {
+  double origin[2];
+  double inv_width[2];
+  std::int32_t cells;
+  std::int32_t count;
+  std::int32_t first;
+  std::int32_t triangle_capacity;
+};
+static_assert(sizeof(GridParams) == 48);
+
+template <class T>
+void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
+  std::memcpy(static_cast<char*>(staging.mapped()) + offset, data.data(), data.size() * sizeof(T));
+  offset += data.size() * sizeof(T);
+}
+
+VkDeviceSize bytes_of(std::size_t count, std::size_t size) { return VkDeviceSize(count) * size; }
+
+class VulkanBackend final : public Backend {
+ public:
+  explicit VulkanBackend(std::shared_ptr<Context> context) : context_(std::move(context)) {}
+  BackendKind kind() const override { return BackendKind::vulkan; }
+  std::string device_name() const override { return context_->name(); }
+
+  GrowResult grow(const GrowInput& input) override {
+    std::lock_guard lock(context_->mutex());
+    const std::size_t messages = context_->instance().message_count();
+    GrowResult result;
+    if (!device_safe(input.sites)) {
+      // Tiny coordinates could underflow on the device: let the exact CPU stage do it all.
+      result.partial.deferred_expansions = std::size_t(input.sites.size());
+      return result;
+    }
+    if (input.layout.seeding == Layout::Seeding::paper_blocks)
+      grow_blocks(input, result);
+    else
+      grow_stars(input, result);
+    context_->instance().throw_if_messages(messages);
+    return result;
+  }
+
+ private:
+  struct Sorted {
+    int cells = 0;
+    double origin[2]{}, inv_width[2]{};
+    std::vector<Point2> points;            // sites sorted by cell (row-major)
+    std::vector<std::int32_t> to_site;     // sorted id -> SiteSet id
+    std::vector<std::int32_t> predecessor; // in sorted ids
+    std::vector<std::int32_t> cell_start;  // cells^2 + 1
+    std::vector<std::int32_t> cell_of;     // sorted id -> cell
+  };
+
+  static Sorted bucket(const GrowInput& input, int cells) {
+    const SiteSet& sites = input.sites;
+    const std::size_t n = std::size_t(sites.size());
+    Sorted s;
+    s.cells = cells;
+    s.origin[0] = sites.bounds.min_x;
+    s.origin[1] = sites.bounds.min_y;
+    const double wx = sites.bounds.max_x - sites.bounds.min_x;
+    const double wy = sites.bounds.max_y - sites.bounds.min_y;
+    s.inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
+    s.inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+    std::vector<std::int32_t> cell(n);
+    s.cell_start.assign(std::size_t(cells) * std::size_t(cells) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point2& p = sites.points[i];
+      const int cx = cell_coord(p.x, s.origin[0], s.inv_width[0], cells);
+      const int cy = cell_coord(p.y, s.origin[1], s.inv_width[1], cells);
+      cell[i] = cy * cells + cx;
+      ++s.cell_start[std::size_t(cell[i]) + 1];
+    }
+    for (std::size_t c = 1; c < s.cell_start.size(); ++c) s.cell_start[c] += s.cell_start[c - 1];
+    std::vector<std::int32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
+    std::vector<std::int32_t> to_sorted(n);
+    s.to_site.resize(n);
+    s.points.resize(n);
+    s.cell_of.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t at = fill[std::size_t(cell[i])]++;
+      to_sorted[i] = at;
+      s.to_site[std::size_t(at)] = std::int32_t(i);
+      s.points[std::size_t(at)] = sites.points[i];
+      s.cell_of[std::size_t(at)] = cell[i];
+    }
+    s.predecessor.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::int32_t p = input.hull.predecessor[std::size_t(s.to_site[k])];
+      s.predecessor[k] = p < 0 ? -1 : to_sorted[std::size_t(p)];
+    }
+    return s;
+  }
+
+  static void finish(const Sorted& s, const std::vector<std::int32_t>& raw, std::size_t count,
+                     GrowResult& result) {
+    auto& triangles = result.partial.triangles;
+    triangles.resize(count);
+    for (std::size_t t = 0; t < count; ++t)
+      for (int k = 0; k < 3; ++k)
+        triangles[t][std::size_t(k)] = s.to_site[std::size_t(raw[3 * t + std::size_t(k)])];
+  }
+
+  std::uint32_t workgroup(std::uint32_t wanted) const {
+    const auto& limits = context_->limits();
+    return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
+                                  limits.maxComputeWorkGroupInvocations}));
+  }
+
+  void grow_stars(const GrowInput& input, GrowResult& result) {
+    Context& ctx = *context_;
+    const std::size_t n = std::size_t(input.sites.size());
+    const double per_bucket = input.layout.sites_per_bucket > 0 ? input.layout.sites_per_bucket : 2.0;
+    const int cells = int(std::clamp(std::ceil(std::sqrt(double(n) / per_bucket)), 1.0, 8192.0));
+
+    auto start = Clock::now();
+    Sorted s = bucket(input, cells);
+    result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
+
+    // Each triangle is emitted once and there are at most 2n - 5.
+    const std::size_t capacity = 2 * n;
+    ctx.require_fits(bytes_of(n, 16), "the sites");
+    ctx.require_fits(bytes_of(capacity, 12), "the triangle output");
+
+    start = Clock::now();
+    Buffer sites(ctx, bytes_of(n, 16), false);
+    Buffer cell_start(ctx, bytes_of(s.cell_start.size(), 4), false);
+    Buffer predecessor(ctx, bytes_of(n, 4), false);
+    Buffer triangles(ctx, bytes_of(capacity, 12), false);
+    Buffer counters(ctx, 64, false);
+    const VkDeviceSize in_bytes = sites.size() + cell_start.size() + predecessor.size();
+    Buffer upload(ctx, in_bytes, true);
+    Buffer download(ctx, triangles.size() + counters.size(), true);
+    VkDeviceSize offset = 0;
+    put(upload, offset, s.points);
+    const VkDeviceSize cell_offset = offset;
+    put(upload, offset, s.cell_start);
+    const VkDeviceSize pred_offset = offset;
+    put(upload, offset, s.predecessor);
+    result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
+
+    const std::uint32_t wg = workgroup(64);
+    const std::uint32_t spec[] = {wg, 48};
+    Kernel& kernel = ctx.kernel("star", spirv::star(), 5, sizeof(GridParams), spec);
+    Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters};
+    kernel.bind(bindings);
+
+    start = Clock::now();
+    Recording rec(ctx);
+    rec.copy(upload, sites, bytes_of(n, 16), 0);
+    rec.copy(upload, cell_start, bytes_of(s.cell_start.size(), 4), cell_offset);
+    rec.copy(upload, predecessor, bytes_of(n, 4), pred_offset);
+    rec.fill(counters, 0);
+    rec.barrier();
+    rec.timestamp("vulkan: upload");
+    GridParams params{{s.origin[0], s.origin[1]}, {s.inv_width[0], s.inv_width[1]}, cells,
+                      std::int32_t(n), 0, std::int32_t(capacity)};
+    const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
+    for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
+      params.first = std::int32_t(first);
+      const std::uint64_t left = (n - first + wg - 1) / wg;
+      rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
+    }
+    rec.barrier();
+    rec.timestamp("vulkan: stars");
+    rec.copy(triangles, download, triangles.size(), 0, 0);
+    rec.copy(counters, download, counters.size(), 0, triangles.size());
+    rec.barrier();
+    rec.timestamp("vulkan: download");
+    result.device_stages = rec.submit();
+    result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
+
+    start = Clock::now();
+    std::uint32_t count[16];
+    std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
+    if (count[2] != 0 || count[0] > capacity)
+      throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
+    std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
+    std::memcpy(raw.data(), download.mapped(), raw.size() * 4);
+    finish(s, raw, count[0], result);
+    result.partial.deferred_expansions = count[1];
+    result.iterations = 1;
+    result.host_stages.push_back({"vulkan: read back", ms_since(start)});
+  }
+
+  void grow_blocks(const GrowInput& input, GrowResult& result) {
+    Context& ctx = *context_;
+    const Layout& layout = input.layout;
+    const std::size_t n = std::size_t(input.sites.size());
+    if (layout.blocks_per_side < 1 || layout.buckets_per_block_side < 1 ||
+        layout.blocks_per_side > 4096 || layout.buckets_per_block_side > 4096 ||
+        !(layout.halo_fraction >= 0.0 && layout.halo_fraction <= 1.0) ||
+        layout.threads_per_block < 0)
+      throw Error(ErrorCode::invalid_argument,
+                  "paper layout: blocks and buckets per side must be in [1, 4096], halo in [0, 1]");
+    const int B = layout.blocks_per_side, K = layout.buckets_per_block_side;
+    const long long cells_ll = (long long)B * K;
+    if (cells_ll > 16384)
+      throw Error(ErrorCode::invalid_argument, "paper layout: blocks x buckets per side > 16384");
+    const int cells = int(cells_ll);
+    const int halo = int(std::ceil(layout.halo_fraction * K));
+
+    auto start = Clock::now();
+    Sorted s = bucket(input, cells);
+    const int blocks = B * B;
+    // Owner block of each site, local lists (ext cell range, local cell order).
+    std::vector<std::int32_t> owner(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const int cx = s.cell_of[k] % cells, cy = s.cell_of[k] / cells;
+      owner[k] = (cy / K) * B + (cx / K);
+    }
+    std::vector<std::int32_t> info(std::size_t(blocks) * 12);
+    std::vector<std::int32_t> local_ids, local_cells;
+    std::size_t hash_total = 0, active_total = 0;
+    for (int bj = 0; bj < B; ++bj) {
+      for (int bi = 0; bi < B; ++bi) {
+        const int b = bj * B + bi;
+        const int lox = std::max(0, bi * K - halo), hix = std::min(cells - 1, bi * K + K - 1 + halo);
+        const int loy = std::max(0, bj * K - halo), hiy = std::min(cells - 1, bj * K + K - 1 + halo);
+        std::int32_t* in = &info[std::size_t(b) * 12];
+        in[0] = lox;
+        in[1] = loy;
+        in[2] = hix;
+        in[3] = hiy;
+        in[4] = std::int32_t(local_cells.size());
+        const std::size_t slot_base = local_ids.size();
+        in[5] = std::int32_t(slot_base);
+        // Seed: own site nearest the block centre (any choice is correct; this one is the paper's).
+        const double cx = s.origin[0] + (bi * K + K * 0.5) / s.inv_width[0];
+        const double cy = s.origin[1] + (bj * K + K * 0.5) / s.inv_width[1];
+        double best = INFINITY;
+        int seed = -1;
+        for (int y = loy; y <= hiy; ++y) {
+          for (int x = lox; x <= hix; ++x) {
+            local_cells.push_back(std::int32_t(local_ids.size()));
+            const int c = y * cells + x;
+            for (int k = s.cell_start[std::size_t(c)]; k < s.cell_start[std::size_t(c) + 1]; ++k) {
+              if (owner[std::size_t(k)] == b) {
+                const double dx = s.points[std::size_t(k)].x - cx, dy = s.points[std::size_t(k)].y - cy;
+                if (dx * dx + dy * dy < best) {
+                  best = dx * dx + dy * dy;
+                  seed = int(local_ids.size() - slot_base);
+                }
+              }
+              local_ids.push_back(k);
+            }
+          }
+        }
+        local_cells.push_back(std::int32_t(local_ids.size()));
+        const std::size_t count = local_ids.size() - slot_base;
+        if (count > 65535)
+          throw Error(ErrorCode::too_large,
+                      "paper layout: a block holds " + std::to_string(count) +
+                          " sites with its halo (at most 65535); use more blocks");
+        if (local_ids.size() > std::size_t(INT32_MAX) / 2)
+          throw Error(ErrorCode::too_large, "paper layout: too many block-local sites");
+        in[6] = std::int32_t(count);
+        in[7] = count >= 2 ? seed : -1;
+        const std::size_t hash_cap = 8 * count + 64, active_cap = 3 * count + 64;
+        in[8] = std::int32_t(hash_total);
+        in[9] = std::int32_t(hash_cap);
+        in[10] = std::int32_t(active_total);
+        in[11] = std::int32_t(active_cap);
+        hash_total += hash_cap;
+        active_total += 2 * active_cap;
+      }
+    }
+    result.host_stages.push_back({"vulkan: bucket + blocks", ms_since(start)});
+
+    const std::size_t capacity = 2 * n;
+    ctx.require_fits(bytes_of(n, 16), "the sites");
+    ctx.require_fits(bytes_of(local_ids.size(), 4), "the block-local site lists");
+    ctx.require_fits(bytes_of(hash_total, 4), "the blocks' edge sets");
+    ctx.require_fits(bytes_of(active_total, 4), "the blocks' active edge lists");
+    ctx.require_fits(bytes_of(capacity, 12), "the triangle output");
+
+    start = Clock::now();
+    Buffer sites(ctx, bytes_of(n, 16), false);
+    Buffer ids(ctx, bytes_of(local_ids.size(), 4), false);
+    Buffer cell_start(ctx, bytes_of(local_cells.size(), 4), false);
+    Buffer predecessor(ctx, bytes_of(n, 4), false);
+    Buffer owners(ctx, bytes_of(n, 4), false);
+    Buffer block_info(ctx, bytes_of(info.size(), 4), false);
+    Buffer edge_set(ctx, bytes_of(hash_total, 4), false);
+    Buffer active(ctx, bytes_of(active_total, 4), false);
+    Buffer triangles(ctx, bytes_of(capacity, 12), false);
+    Buffer counters(ctx, 64, false);
+    Buffer upload(ctx,
+                  sites.size() + ids.size() + cell_start.size() + predecessor.size() +
+                      owners.size() + block_info.size(),
+                  true);
+    Buffer download(ctx, triangles.size() + counters.size(), true);
+    VkDeviceSize offset = 0;
+    const VkDeviceSize o_sites = offset;
+    put(upload, offset, s.points);
+    const VkDeviceSize o_ids = offset;
+    put(upload, offset, local_ids);
+    const VkDeviceSize o_cells = offset;
+    put(upload, offset, local_cells);
+    const VkDeviceSize o_pred = offset;
+    put(upload, offset, s.predecessor);
+    const VkDeviceSize o_owner = offset;
+    put(upload, offset, owner);
+    const VkDeviceSize o_info = offset;
+    put(upload, offset, info);
+    result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
+
+    std::uint32_t threads = std::uint32_t(layout.threads_per_block);
+    if (threads == 0)
+      threads = std::uint32_t(std::clamp(std::sqrt(double(n) / blocks), 32.0, 1024.0));
+    threads = workgroup(threads);
+    const std::uint32_t spec[] = {threads};
+    Kernel& kernel = ctx.kernel("blocks", spirv::blocks(), 10, sizeof(GridParams), spec);
+    Buffer* bindings[] = {&sites, &ids, &cell_start, &predecessor, &owners,
+                          &block_info, &edge_set, &active, &triangles, &counters};
+    kernel.bind(bindings);
+
+    start = Clock::now();
+    Recording rec(ctx);
+    rec.copy(upload, sites, bytes_of(n, 16), o_sites);
+    rec.copy(upload, ids, bytes_of(local_ids.size(), 4), o_ids);
+    rec.copy(upload, cell_start, bytes_of(local_cells.size(), 4), o_cells);
+    rec.copy(upload, predecessor, bytes_of(n, 4), o_pred);
+    rec.copy(upload, owners, bytes_of(n, 4), o_owner);
+    rec.copy(upload, block_info, bytes_of(info.size(), 4), o_info);
+    rec.fill(edge_set, 0xffffffffu);
+    rec.fill(counters, 0);
+    rec.barrier();
+    rec.timestamp("vulkan: upload");
+    GridParams params{{s.origin[0], s.origin[1]}, {s.inv_width[0], s.inv_width[1]}, cells,
+                      blocks, 0, std::int32_t(capacity)};
+    const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
+    for (std::uint64_t first = 0; first < std::uint64_t(blocks); first += max_groups) {
+      params.first = std::int32_t(first);
+      rec.dispatch(kernel, &params, std::uint32_t(std::min<std::uint64_t>(blocks - first, max_groups)));
+    }
+    rec.barrier();
+    rec.timestamp("vulkan: blocks");
+    rec.copy(triangles, download, triangles.size(), 0, 0);
+    rec.copy(counters, download, counters.size(), 0, triangles.size());
+    rec.barrier();
+    rec.timestamp("vulkan: download");
+    result.device_stages = rec.submit();
+    result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
+
+    start = Clock::now();
+    std::uint32_t count[16];
+    std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
+    if (count[2] != 0 || count[0] > capacity)
+      throw Error(ErrorCode::internal, "Vulkan: block output overflowed its capacity");
+    std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
+    std::memcpy(raw.data(), download.mapped(), raw.size() * 4);
+    finish(s, raw, count[0], result);
+    result.partial.deferred_expansions = count[1];
+    result.iterations = count[3];
+    result.host_stages.push_back({"vulkan: read back", ms_since(start)});
+  }
+
+  std::shared_ptr<Context> context_;
+};
+
+}  // namespace
+
+std::shared_ptr<Context> shared_context(int index) {
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  auto found = r.contexts.find(index);
+  if (found != r.contexts.end()) return found->second;
+  auto context = std::make_shared<Context>(shared_instance_locked(r), index);
+  const std::string failure = eft_self_test(*context);
+  if (!failure.empty())
+    throw Error(ErrorCode::backend_unavailable,
+                "Vulkan: device " + context->name() + " fails the exact-arithmetic self-test: " +
+                    failure);
+  r.contexts[index] = context;
+  return context;
+}
+
+void run_predicate_kernel(Context& ctx, std::span<const double> cases,
+                          std::vector<std::int32_t>& signs, std::vector<double>& eft) {
+  std::lock_guard lock(ctx.mutex());
+  const std::size_t count = cases.size() / 8;
+  signs.assign(count * 8, 0);
+  eft.assign(count * 4, 0.0);
+  if (count == 0) return;
+  Buffer in(ctx, cases.size_bytes(), false);
+  Buffer out_signs(ctx, bytes_of(count * 8, 4), false);
+  Buffer out_eft(ctx, bytes_of(count * 4, 8), false);
+  Buffer upload(ctx, cases.size_bytes(), true);
+  Buffer download(ctx, out_signs.size() + out_eft.size(), true);
+  std::memcpy(upload.mapped(), cases.data(), cases.size_bytes());
+  const std::uint32_t wg = 64;
+  const std::uint32_t spec[] = {wg};
+  Kernel& kernel = ctx.kernel("predicate_test", spirv::predicate_test(), 3, 4, spec);
+  Buffer* bindings[] = {&in, &out_signs, &out_eft};
+  kernel.bind(bindings);
+  Recording rec(ctx);
+  rec.copy(upload, in, cases.size_bytes());
+  rec.barrier();
+  const std::int32_t n = std::int32_t(count);
+  rec.dispatch(kernel, &n, std::uint32_t((count + wg - 1) / wg));
+  rec.barrier();
+  rec.copy(out_signs, download, out_signs.size(), 0, 0);
+  rec.copy(out_eft, download, out_eft.size(), 0, out_signs.size());
+  rec.barrier();
+  rec.submit();
+  std::memcpy(signs.data(), download.mapped(), signs.size() * 4);
+  std::memcpy(eft.data(), static_cast<char*>(download.mapped()) + out_signs.size(),
+              eft.size() * 8);
+}
+
+std::string eft_self_test(Context& ctx) {
+  // a.x * a.y with a.x = a.y = 1 + 2^-30: exact 1 + 2^-29 + 2^-60; rounds to 1 + 2^-29, so
+  // two_product's error must be exactly 2^-60, and a.x * a.y + b.x with b.x = -(1 + 2^-29) must
+  // give 0 (an fma would give 2^-60). two_sum(1, 2^-60) must report error 2^-60.
+  const double u = 1.0 + 0x1p-30;
+  std::vector<double> cases = {u, u, -(1.0 + 0x1p-29), 0, 0, 1, 1, 1,
+                               1.0, 0x1p-60, 0, 0, 0, 1, 1, 1};
+  std::vector<std::int32_t> signs;
+  std::vector<double> eft;
+  run_predicate_kernel(ctx, cases, signs, eft);
+  if (eft[1] != 1.0 + 0x1p-29 || eft[2] != 0x1p-60) return "two_product is not error-free";
+  if (eft[3] != 0.0) return "a*b+c was fused into an fma despite `precise`";
+  if (eft[4] != 0x1p-60) return "two_sum is not error-free";
+  return {};
+}
+
+}  // namespace vk
+
+std::unique_ptr<Backend> make_vulkan_backend(int device) {
+  return std::make_unique<vk::VulkanBackend>(vk::shared_context(device));
+}
+
+std::vector<DeviceDescription> list_vulkan_devices() {
+  auto& r = vk::registry();
+  std::shared_ptr<vk::Instance> instance;
+  {
+    std::lock_guard lock(r.mutex);
+    instance = vk::shared_instance_locked(r);
+  }
+  std::vector<DeviceDescription> devices;
+  for (std::size_t i = 0; i < instance->devices().size(); ++i)
+    devices.push_back(instance->devices()[i].describe(int(i)));
+  return devices;
+}
+
+}  // namespace expanse::detail

@@ -1,0 +1,162 @@
+// Device predicates: the host's error-bounded filters and exactness certificates
+// (engine/src/predicates/exact_arith.hpp), transcribed in the same operation order. There is no
+// device expansion arithmetic: what neither can decide returns UNCERTAIN and the caller defers
+// the expansion to the exact CPU seam stage.
+#ifndef EXPANSE_PREDICATES_GLSL
+#define EXPANSE_PREDICATES_GLSL
+
+#include "eft.glsl"
+
+const int UNCERTAIN = 2;
+const double EPS = 1.1102230246251565e-16lf;  // 2^-53
+const double ORIENT_BOUND = (3.0lf + 16.0lf * EPS) * EPS;
+const double INCIRCLE_BOUND = (10.0lf + 96.0lf * EPS) * EPS;
+// The host uses 2^-1069 to cover underflowed products. The backend only sends sites whose
+// nonzero coordinates are at least 2^-200 in magnitude (else it defers everything), so no
+// value formed here is subnormal and a device that flushes subnormals cannot be fooled; a
+// normal 2^-1000 keeps the bound at least as large as the host's without a subnormal literal.
+const double UNDERFLOW_SLACK = 9.332636185032189e-302lf;
+
+int orient2d_filter(dvec2 a, dvec2 b, dvec2 c) {
+  precise double left = (a.x - c.x) * (b.y - c.y);
+  precise double right = (a.y - c.y) * (b.x - c.x);
+  precise double det = left - right;
+  precise double permanent = mag(left) + mag(right);
+  precise double bound = ORIENT_BOUND * permanent + UNDERFLOW_SLACK;
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  return UNCERTAIN;
+}
+
+int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
+  precise double adx = a.x - d.x, ady = a.y - d.y;
+  precise double bdx = b.x - d.x, bdy = b.y - d.y;
+  precise double cdx = c.x - d.x, cdy = c.y - d.y;
+  precise double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  precise double cdxady = cdx * ady, adxcdy = adx * cdy;
+  precise double adxbdy = adx * bdy, bdxady = bdx * ady;
+  precise double alift = adx * adx + ady * ady;
+  precise double blift = bdx * bdx + bdy * bdy;
+  precise double clift = cdx * cdx + cdy * cdy;
+  precise double det = (alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy)) +
+                       clift * (adxbdy - bdxady);
+  precise double a_cross = mag(bdxcdy) + mag(cdxbdy);
+  precise double b_cross = mag(cdxady) + mag(adxcdy);
+  precise double c_cross = mag(adxbdy) + mag(bdxady);
+  precise double permanent = (a_cross * alift + b_cross * blift) + c_cross * clift;
+  precise double losses = ((alift + blift) + (clift + a_cross)) + ((b_cross + c_cross) + 1.0lf);
+  precise double bound = INCIRCLE_BOUND * permanent + UNDERFLOW_SLACK * losses;
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  return UNCERTAIN;
+}
+
+bool in_safe_range(double v) {
+  double m = mag(v);
+  // [2^-200, 2^200]
+  return v == 0.0lf || (m >= 6.223015277861142e-61lf && m <= 1.6069380442589903e60lf);
+}
+
+bool safe2(dvec2 p) { return in_safe_range(p.x) && in_safe_range(p.y); }
+
+int orient2d_certified(dvec2 a, dvec2 b, dvec2 c) {
+  if (!(safe2(a) && safe2(b) && safe2(c))) return UNCERTAIN;
+  double e0, e1, e2, e3, e4, e5, e6;
+  precise double acx = two_diff(a.x, c.x, e0);
+  precise double bcy = two_diff(b.y, c.y, e1);
+  precise double acy = two_diff(a.y, c.y, e2);
+  precise double bcx = two_diff(b.x, c.x, e3);
+  precise double left = two_product(acx, bcy, e4);
+  precise double right = two_product(acy, bcx, e5);
+  precise double det = two_diff(left, right, e6);
+  bool exact = e0 == 0.0lf && e1 == 0.0lf && e2 == 0.0lf && e3 == 0.0lf && e4 == 0.0lf &&
+               e5 == 0.0lf && e6 == 0.0lf;
+  if (!exact) return UNCERTAIN;
+  return int(det > 0.0lf) - int(det < 0.0lf);
+}
+
+// Certified operations accumulate "every remainder was zero" in `ok`.
+double cdiff(double p, double q, inout bool ok) {
+  double e;
+  precise double r = two_diff(p, q, e);
+  ok = ok && e == 0.0lf;
+  return r;
+}
+double csum(double p, double q, inout bool ok) {
+  double e;
+  precise double r = two_sum(p, q, e);
+  ok = ok && e == 0.0lf;
+  return r;
+}
+double cprod(double p, double q, inout bool ok) {
+  double e;
+  precise double r = two_product(p, q, e);
+  ok = ok && e == 0.0lf;
+  return r;
+}
+
+int incircle_certified(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
+  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
+  bool ok = true;
+  precise double adx = cdiff(a.x, d.x, ok), ady = cdiff(a.y, d.y, ok);
+  precise double bdx = cdiff(b.x, d.x, ok), bdy = cdiff(b.y, d.y, ok);
+  precise double cdx = cdiff(c.x, d.x, ok), cdy = cdiff(c.y, d.y, ok);
+  precise double alift = csum(cprod(adx, adx, ok), cprod(ady, ady, ok), ok);
+  precise double blift = csum(cprod(bdx, bdx, ok), cprod(bdy, bdy, ok), ok);
+  precise double clift = csum(cprod(cdx, cdx, ok), cprod(cdy, cdy, ok), ok);
+  precise double a_term = cprod(alift, cdiff(cprod(bdx, cdy, ok), cprod(cdx, bdy, ok), ok), ok);
+  precise double b_term = cprod(blift, cdiff(cprod(cdx, ady, ok), cprod(adx, cdy, ok), ok), ok);
+  precise double c_term = cprod(clift, cdiff(cprod(adx, bdy, ok), cprod(bdx, ady, ok), ok), ok);
+  precise double det = csum(csum(a_term, b_term, ok), c_term, ok);
+  if (!ok) return UNCERTAIN;
+  return int(det > 0.0lf) - int(det < 0.0lf);
+}
+
+// Filter, then certificate; UNCERTAIN only when both give up.
+int orient2d_device(dvec2 a, dvec2 b, dvec2 c) {
+  int s = orient2d_filter(a, b, c);
+  if (s != UNCERTAIN) return s;
+  return orient2d_certified(a, b, c);
+}
+
+int incircle_device(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
+  int s = incircle_filter(a, b, c, d);
+  if (s != UNCERTAIN) return s;
+  return incircle_certified(a, b, c, d);
+}
+
+bool lex_less(dvec2 p, dvec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
+
+// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
+// CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
+// UNCERTAIN when an unperturbed sign could not be decided on the device.
+int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
+  int s = incircle_device(p0, p1, p2, q);
+  if (s != 0) return s;
+  // Walk the four points from the lexicographically largest down (two steps suffice).
+  // Index 3 is q.
+  dvec2 pts[4] = dvec2[4](p0, p1, p2, q);
+  int order[4] = int[4](0, 1, 2, 3);
+  for (int i = 1; i < 4; ++i) {  // insertion sort, ascending
+    int k = order[i];
+    int j = i - 1;
+    while (j >= 0 && lex_less(pts[k], pts[order[j]])) {
+      order[j + 1] = order[j];
+      --j;
+    }
+    order[j + 1] = k;
+  }
+  for (int i = 3; i > 1; --i) {
+    int w = order[i];
+    if (w == 3) return -1;
+    int o;
+    if (w == 2) o = orient2d_device(p0, p1, q);
+    else if (w == 1) o = orient2d_device(p0, q, p2);
+    else o = orient2d_device(q, p1, p2);
+    if (o == UNCERTAIN) return UNCERTAIN;
+    if (o != 0) return o;
+  }
+  return UNCERTAIN;  // unreachable for distinct sites and a CCW triangle
+}
+
+#endif

@@ -1,0 +1,46 @@
+#version 450
+// Test kernel: evaluates the device predicates and error-free transformations on a batch of
+// inputs so the host can compare them with its own (tests/vulkan, and the start-up self-test).
+#extension GL_ARB_gpu_shader_fp64 : enable
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x_id = 0) in;
+
+// Per case: 4 points (8 doubles).
+layout(std430, set = 0, binding = 0) readonly buffer Cases { double cases[]; };
+// Per case: 8 ints: orient filter, orient certified, orient device, incircle filter,
+// incircle certified, incircle device, incircle perturbed, reserved.
+layout(std430, set = 0, binding = 1) writeonly buffer Signs { int signs[]; };
+// Per case: 4 doubles: two_sum(x0, y0) error, two_product(x0, y0) result and error,
+// and x0 * y0 + x1 evaluated under `precise` (must not be an fma).
+layout(std430, set = 0, binding = 2) writeonly buffer Eft { double eft[]; };
+
+layout(push_constant) uniform Params { int count; } params;
+
+#include "predicates.glsl"
+
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i >= params.count) return;
+  dvec2 a = dvec2(cases[8 * i + 0], cases[8 * i + 1]);
+  dvec2 b = dvec2(cases[8 * i + 2], cases[8 * i + 3]);
+  dvec2 c = dvec2(cases[8 * i + 4], cases[8 * i + 5]);
+  dvec2 d = dvec2(cases[8 * i + 6], cases[8 * i + 7]);
+  signs[8 * i + 0] = orient2d_filter(a, b, c);
+  signs[8 * i + 1] = orient2d_certified(a, b, c);
+  signs[8 * i + 2] = orient2d_device(a, b, c);
+  signs[8 * i + 3] = incircle_filter(a, b, c, d);
+  signs[8 * i + 4] = incircle_certified(a, b, c, d);
+  signs[8 * i + 5] = incircle_device(a, b, c, d);
+  int o = orient2d_device(a, b, c);
+  signs[8 * i + 6] = o == 1 ? incircle_perturbed_device(a, b, c, d) : 0;
+  signs[8 * i + 7] = 0;
+  double e;
+  two_sum(a.x, a.y, e);
+  eft[4 * i + 0] = e;
+  double pe;
+  eft[4 * i + 1] = two_product(a.x, a.y, pe);
+  eft[4 * i + 2] = pe;
+  precise double r = a.x * a.y + b.x;
+  eft[4 * i + 3] = r;
+}

@@ -1,0 +1,158 @@
+// GLSL predicates (shaders/include/predicates.glsl) against the host's: the filter and the
+// certificate must agree with exact_arith.hpp decision for decision, and every sign the device
+// decides must be the exact sign. Near-degenerate inputs are where the device must say
+// "uncertain" instead of guessing.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "backends/vulkan/vulkan_backend.hpp"
+#include "harness.hpp"
+#include "predicates/exact_arith.hpp"
+#include "predicates/predicates.hpp"
+
+namespace expanse::vulkan_tests {
+namespace {
+
+using detail::exact::uncertain;
+
+struct Case {
+  Point2 a, b, c, d;
+};
+
+std::vector<Case> make_cases() {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> unit(0.5, 1.0);
+  std::uniform_real_distribution<double> signed_unit(-1.0, 1.0);
+  std::vector<Case> cases;
+  // Random, well-conditioned.
+  for (int i = 0; i < 4000; ++i)
+    cases.push_back({{unit(rng), unit(rng)}, {unit(rng), unit(rng)}, {unit(rng), unit(rng)},
+                     {unit(rng), unit(rng)}});
+  // Nearly collinear: c on the segment a-b, rounded, nudged by a few ulps.
+  for (int i = 0; i < 4000; ++i) {
+    Point2 a{signed_unit(rng), signed_unit(rng)}, b{signed_unit(rng), signed_unit(rng)};
+    const double t = unit(rng) - 0.25;
+    Point2 c{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    for (int k = 0; k < i % 4; ++k) c.x = std::nextafter(c.x, 2.0);
+    Point2 d{signed_unit(rng), signed_unit(rng)};
+    cases.push_back({a, b, c, d});
+  }
+  // Nearly cocircular: four points on a circle, rounded.
+  for (int i = 0; i < 4000; ++i) {
+    const double cx = signed_unit(rng) * 0.25, cy = signed_unit(rng) * 0.25, r = unit(rng) * 0.5;
+    double angle[4];
+    for (double& t : angle) t = unit(rng) * 12.0;
+    std::sort(angle, angle + 3);
+    Point2 p[4];
+    for (int k = 0; k < 4; ++k) p[k] = {cx + r * std::cos(angle[k]), cy + r * std::sin(angle[k])};
+    cases.push_back({p[0], p[1], p[2], p[3]});
+  }
+  // Integer grids (scaled by powers of two): collinear and cocircular exactly.
+  for (int i = 0; i < 4000; ++i) {
+    auto g = [&] { return double(int(rng() % 9)) * 0x1p-4; };
+    cases.push_back({{g(), g()}, {g(), g()}, {g(), g()}, {g(), g()}});
+  }
+  // Exactly cocircular integer points: (±3, ±4), (±5, 0), (0, ±5) on radius 5, scaled.
+  const Point2 circle[] = {{3, 4}, {-3, 4}, {-5, 0}, {-3, -4}, {0, -5}, {3, -4}, {5, 0}, {4, 3}};
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k)
+        for (int l = 0; l < 8; l += 3) {
+          auto s = [](Point2 p) { return Point2{p.x * 0x1p-3 + 0.5, p.y * 0x1p-3 + 0.5}; };
+          cases.push_back({s(circle[i]), s(circle[j]), s(circle[k]), s(circle[l])});
+        }
+  return cases;
+}
+
+}  // namespace
+
+void test_predicates() {
+  auto context = detail::vk::shared_context(-1);
+  const std::vector<Case> cases = make_cases();
+  std::vector<double> flat;
+  for (const Case& c : cases)
+    for (const Point2& p : {c.a, c.b, c.c, c.d}) {
+      flat.push_back(p.x);
+      flat.push_back(p.y);
+    }
+  std::vector<std::int32_t> signs;
+  std::vector<double> eft;
+  detail::vk::run_predicate_kernel(*context, flat, signs, eft);
+
+  long orient_uncertain = 0, incircle_uncertain = 0, perturbed_checked = 0;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Case& c = cases[i];
+    const std::int32_t* s = &signs[8 * i];
+    namespace ex = detail::exact;
+    const int host_of = ex::orient2d_filter(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);
+    const int host_oc = ex::orient2d_certified(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);
+    const int host_if =
+        ex::incircle_filter(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y, c.d.x, c.d.y);
+    const int host_ic =
+        ex::incircle_certified(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y, c.d.x, c.d.y);
+    const int exact_o = detail::orient2d_exact(c.a, c.b, c.c);
+    const int exact_i = detail::incircle_exact(c.a, c.b, c.c, c.d);
+    VK_CHECK_THAT(s[0] == host_of, "case %zu: orient filter device %d host %d", i, s[0], host_of);
+    VK_CHECK_THAT(s[1] == host_oc, "case %zu: orient certificate device %d host %d", i, s[1], host_oc);
+    VK_CHECK_THAT(s[2] == uncertain || s[2] == exact_o, "case %zu: orient device %d exact %d", i,
+                  s[2], exact_o);
+    VK_CHECK_THAT(s[3] == host_if, "case %zu: incircle filter device %d host %d", i, s[3], host_if);
+    VK_CHECK_THAT(s[4] == host_ic, "case %zu: incircle certificate device %d host %d", i, s[4],
+                  host_ic);
+    VK_CHECK_THAT(s[5] == uncertain || s[5] == exact_i, "case %zu: incircle device %d exact %d", i,
+                  s[5], exact_i);
+    orient_uncertain += s[2] == uncertain;
+    incircle_uncertain += s[5] == uncertain;
+    if (s[2] == 1 && s[6] != uncertain) {
+      ++perturbed_checked;
+      const int host_p = detail::incircle_perturbed(c.a, c.b, c.c, c.d);
+      const bool distinct = !(c.d == c.a || c.d == c.b || c.d == c.c);
+      if (distinct)
+        VK_CHECK_THAT(s[6] == host_p, "case %zu: perturbed incircle device %d host %d", i, s[6],
+                      host_p);
+    }
+  }
+  std::printf("predicates: %zu cases, device undecided: orient %ld, incircle %ld; perturbed "
+              "compared %ld\n",
+              cases.size(), orient_uncertain, incircle_uncertain, perturbed_checked);
+  // The near-degenerate families must exercise the "uncertain" answer, or this test is weak.
+  VK_CHECK_THAT(orient_uncertain > 0 && incircle_uncertain > 0, "no undecided cases generated");
+}
+
+void test_eft() {
+  auto context = detail::vk::shared_context(-1);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<double> flat;
+  const std::size_t count = 20000;
+  for (std::size_t i = 0; i < count; ++i) {
+    // Mix magnitudes so sums and products lose low bits in every way.
+    const double scale = std::ldexp(1.0, int(rng() % 60) - 30);
+    flat.push_back(unit(rng));
+    flat.push_back(unit(rng) * scale);
+    flat.push_back(unit(rng) * scale * scale);
+    for (int k = 0; k < 5; ++k) flat.push_back(0.5);
+  }
+  std::vector<std::int32_t> signs;
+  std::vector<double> eft;
+  detail::vk::run_predicate_kernel(*context, flat, signs, eft);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double x = flat[8 * i], y = flat[8 * i + 1], z = flat[8 * i + 2];
+    double sum_error, product_error;
+    detail::exact::two_sum(x, y, sum_error);
+    const double product = detail::exact::two_product(x, y, product_error);
+    const double unfused = x * y + z;  // -ffp-contract=off: two roundings
+    VK_CHECK_THAT(eft[4 * i] == sum_error, "two_sum(%a, %a) error %a, host %a", x, y, eft[4 * i],
+                  sum_error);
+    VK_CHECK_THAT(eft[4 * i + 1] == product && eft[4 * i + 2] == product_error,
+                  "two_product(%a, %a) = %a + %a, host %a + %a", x, y, eft[4 * i + 1],
+                  eft[4 * i + 2], product, product_error);
+    VK_CHECK_THAT(eft[4 * i + 3] == unfused, "precise x*y+z = %a, two roundings give %a (fma?)",
+                  eft[4 * i + 3], unfused);
+  }
+  VK_CHECK_THAT(detail::vk::eft_self_test(*context).empty(), "start-up self-test fails");
+}
+
+}  // namespace expanse::vulkan_tests
