@@ -54,12 +54,33 @@ def host(record):
 
 
 def latest_runs(records, experiment):
-    """The latest run of `experiment` on each machine: {hostname: [records]}."""
-    by_host = defaultdict(lambda: defaultdict(list))
+    """The newest measurement of `experiment` per machine and configuration: {hostname: [records]}.
+
+    An experiment may be run in parts (one distribution or backend per command on a device with a
+    time limit), so each (distribution, n, implementation, layout, device) keeps its newest record
+    from whichever run made it. Skip records only come from a machine's newest run, and only for
+    backends with no measurement kept.
+    """
+    by_host = defaultdict(list)
     for r in records:
         if r.get("experiment") == experiment:
-            by_host[host(r)][r.get("run_id", "")].append(r)
-    return {h: runs[max(runs)] for h, runs in sorted(by_host.items())}
+            by_host[host(r)].append(r)
+    result = {}
+    for hostname, rs in sorted(by_host.items()):
+        newest = {}
+        for r in rs:
+            if r.get("skipped"):
+                continue
+            key = (r["distribution"], r["n"], label(r), r.get("device", ""))
+            if key not in newest or r.get("run_id", "") > newest[key].get("run_id", ""):
+                newest[key] = r
+        kept = list(newest.values())
+        measured_backends = {r["backend"] for r in kept}
+        last_run = max(r.get("run_id", "") for r in rs)
+        kept += [r for r in rs if r.get("skipped") and r.get("run_id", "") == last_run
+                 and r["backend"] not in measured_backends]
+        result[hostname] = kept
+    return result
 
 
 def label(r):
@@ -112,7 +133,7 @@ def provenance(run):
     measured = [r for r in run if not r.get("skipped")]
     if not measured:
         skipped = sorted({f"{r['backend']} ({r.get('reason', '')})" for r in run})
-        return (f"{NOT_MEASURED[:-1]} on {host(run[0])} ({run[0].get('date', '')[:10]}, commit "
+        return (f"{NOT_MEASURED[:-2]} on {host(run[0])} ({run[0].get('date', '')[:10]}, commit "
                 f"`{run[0].get('commit', 'unknown')}`): " + "; ".join(skipped) + "._")
     first = (measured or run)[0]
     machine = first.get("machine", {})

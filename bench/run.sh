@@ -13,6 +13,9 @@
 #   --experiments LIST    comma list of peers,threads,scaling,pictures (default: all)
 #   --gpu LIST            GPU backends to try (default: vulkan,cuda; missing ones are skipped
 #                         with a record that says why)
+#   --dist LIST           distributions for peers/scaling/pictures (default: uniform,gaussian)
+#   --commit ID           commit to record when the tree has no .git (e.g. a copied tree on a
+#                         device machine); otherwise git is asked at run time
 #   --results DIR         where the JSON lines go (overrides the defaults above)
 #   --note TEXT           stored in every record (say how loaded the machine was)
 #   --no-report           only measure
@@ -30,6 +33,7 @@ experiments="peers,threads,scaling,pictures"
 gpu="vulkan,cuda"
 results=""
 note=""
+dists="uniform,gaussian"
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -40,9 +44,11 @@ while [[ $# -gt 0 ]]; do
     --experiments) experiments="$2"; shift ;;
     --gpu) gpu="$2"; shift ;;
     --results) results="$(realpath -m "$2")"; shift ;;
+    --dist) dists="$2"; shift ;;
+    --commit) export EXPANSE_COMMIT="$2"; shift ;;
     --note) note="$2"; shift ;;
     --no-report) report=0 ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -84,37 +90,47 @@ load="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || true)"
 [[ -z "$note" ]] && note="load average at start: $load"
 gpu_and_cpu="cpu,$gpu"
 
+# A crash in one experiment (a backend under construction) must not throw away the others: the
+# records written so far stay (one flushed line per configuration), the next experiment runs, and
+# the script still fails at the end so CI notices.
+failed=()
 run() {  # run EXPERIMENT ARGS...: one expanse-bench invocation appending to EXPERIMENT.jsonl
   local experiment="$1"
   shift
   echo "== $experiment" >&2
-  "$bench" --experiment "$experiment" --note "$note" -o "$results/$experiment.jsonl" "$@"
+  local status=0
+  "$bench" --experiment "$experiment" --note "$note" -o "$results/$experiment.jsonl" "$@" ||
+    status=$?
+  if [[ $status -ne 0 ]]; then
+    echo "run.sh: experiment $experiment failed (exit status $status)" >&2
+    failed+=("$experiment")
+  fi
 }
 
 has() { [[ ",$experiments," == *",$1,"* ]]; }
 
 if [[ $mode == quick ]]; then
-  "$peers" 2e4
+  "$peers" 2e4 || failed+=(peers-selfcheck)
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
-    --dist uniform,gaussian -n 1e3,1e4 --layouts default,paper --warmup 1 -r 3
-  has threads && run threads --backends "$gpu" --dist uniform -n 64^2,128^2 --layouts paper \
-    --threads 8,16,32,64 --warmup 1 -r 1
-  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist uniform,gaussian \
-    -n 32^2,64^2,128^2,256^2 --layouts default,paper --warmup 1 -r 3
-  has pictures && run pictures --backends "$gpu,cpu" --dist uniform,gaussian -n 32^2 \
+    --dist "$dists" -n 1e3,1e4 --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+  has threads && run threads --backends "$gpu" --dist uniform -n 32^2,64^2 --layouts paper \
+    --threads 4,8,16,32 --warmup 1 -r 1
+  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
+    -n 32^2,64^2,128^2 --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+  has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n 32^2 \
     --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
 else
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
-    --dist uniform,gaussian -n 1e4,1e5,1e6 --layouts default,paper --warmup 1 -r 5 \
+    --dist "$dists" -n 1e4,1e5,1e6 --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 60
   # Fig. IV.1: the paper's sizes, threads per block in powers of two around sqrt(n/256).
   has threads && run threads --backends "$gpu" --dist uniform -n 256^2,512^2,1024^2,2048^2 \
     --layouts paper --threads 8,16,32,64,128,256,512,1024 --warmup 1 -r 3 --max-seconds 20
   # Figs. IV.2/IV.3 and the iteration counts: n = 32^2 ... 4096^2.
-  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist uniform,gaussian \
+  has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
     -n 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2 --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 30
-  has pictures && run pictures --backends "$gpu,cpu" --dist uniform,gaussian -n 32^2 \
+  has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n 32^2 \
     --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
 fi
 
@@ -136,3 +152,7 @@ if [[ $report -eq 1 ]]; then
   fi
 fi
 echo "run.sh: results in $results" >&2
+if [[ ${#failed[@]} -gt 0 ]]; then
+  echo "run.sh: FAILED experiments: ${failed[*]}" >&2
+  exit 1
+fi

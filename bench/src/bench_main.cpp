@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -160,14 +161,20 @@ double sum_ms(const std::vector<expanse::StageTime>& stages) {
   return total;
 }
 
-// Which triangles the seam stage made, when the Mesh says so; empty when this build's Mesh has
-// no per-triangle origin (then the pictures are drawn in one colour and the record says why).
+// Which triangles the seam stage made (1) and which the device's front growth made (0). A Mesh
+// with a per-triangle origin is used as is; otherwise the pipeline's current habit of appending
+// the seam's triangles after the device's (the CLI relies on it too) splits them by count.
+// Empty when neither works: the picture is then drawn in one colour and the record says why.
 template <class M>
 std::vector<std::uint8_t> triangle_origin(const M& mesh) {
   if constexpr (requires { mesh.triangle_origin; }) {
     return std::vector<std::uint8_t>(mesh.triangle_origin.begin(), mesh.triangle_origin.end());
   } else {
-    return {};
+    const auto& s = mesh.stats;
+    if (s.gpu_triangles + s.seam_triangles != mesh.triangles.size()) return {};
+    std::vector<std::uint8_t> origin(mesh.triangles.size(), 0);
+    std::fill(origin.begin() + static_cast<std::ptrdiff_t>(s.gpu_triangles), origin.end(), 1);
+    return origin;
   }
 }
 
@@ -265,7 +272,7 @@ void run_expanse(const RunContext& context, const Config& config, const std::str
       expanse::PictureOptions picture;
       picture.triangle_origin = triangle_origin(mesh);
       if (picture.triangle_origin.empty())
-        record["picture_note"] = "Mesh has no per-triangle origin in this build: one colour";
+        record["picture_note"] = "triangle counts do not add up: origin unknown, one colour";
       const auto stem = std::filesystem::path(config.pictures) /
                         (distribution + "-" + std::to_string(points.size()) + "-" + backend + "-" +
                          label);
