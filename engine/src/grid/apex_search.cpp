@@ -132,6 +132,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   const Point2 b = sites_.points[ib];
   const auto& nodes = tree_.nodes();
   const auto& entries = tree_.entries();
+  const int shift = tree_.cell_shift();
 
   const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
   const std::uint32_t qmy = tree_.quantise_y(0.5 * a.y + 0.5 * b.y);
@@ -143,38 +144,76 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   std::int32_t best = -1;
   Point2 best_point{};
   QuantBox best_box = full_domain;
-  QuantBox visited{};
+  big_buckets_.clear();
+
+  // Scans one bucket; the region box is recomputed once per bucket, not per improvement.
+  const auto scan = [&](const BucketTree::Node& bucket) {
+    bool improved = false;
+    for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
+      const BucketTree::Entry& e = entries[i];
+      if (e.qx < best_box.x0 || e.qx > best_box.x1 || e.qy < best_box.y0 || e.qy > best_box.y1) continue;
+      if (e.id == ia || e.id == ib) continue;
+      const Point2 p{e.x, e.y};
+      ++candidates_tested_;
+      if (orient2d(a, b, p) <= 0) continue;
+      if (best < 0 || incircle_perturbed(a, b, best_point, p) > 0) {
+        best = e.id;
+        best_point = p;
+        improved = true;
+      }
+    }
+    if (improved) best_box = left_region_box(a, b, best_point);
+  };
+
+  // One round visits every bucket that meets `square` but not `visited` (the previous round's
+  // square, whose buckets were all scanned or safely pruned). Pruning by the best circle is safe
+  // for good: a better candidate only shrinks circle ∩ left half-plane.
+  QuantBox visited{1, 1, 0, 0};
   bool has_visited = false;
-  while (true) {
-    const QuantBox square = square_around(qmx, qmy, half);
+  const auto descend = [&](std::int32_t root, const QuantBox& square) {
     stack_.clear();
-    stack_.push_back(0);
+    stack_.push_back(root);
     while (!stack_.empty()) {
-      const BucketTree::Node& node = nodes[stack_.back()];
+      const std::int32_t index = stack_.back();
+      const BucketTree::Node& node = nodes[index];
       stack_.pop_back();
       if (node.begin == node.end) continue;
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
-      if (entirely_right(box, a, b)) continue;
       if (node.first_child >= 0) {
-        for (int k = 0; k < 4; ++k) stack_.push_back(node.first_child + k);
+        if (entirely_right(box, a, b)) continue;
+        // Children nearest the midpoint last, so they are popped first.
+        const std::uint32_t mid = node.size / 2;
+        const int near = (qmx >= node.x0 + mid ? 1 : 0) | (qmy >= node.y0 + mid ? 2 : 0);
+        for (int k = 3; k >= 0; --k) stack_.push_back(node.first_child + (near ^ k));
         continue;
       }
-      if (has_visited && box.intersects(visited)) continue;  // scanned in an earlier round
-      for (std::int32_t i = node.begin; i < node.end; ++i) {
-        const BucketTree::Entry& e = entries[i];
-        if (e.qx < best_box.x0 || e.qx > best_box.x1 || e.qy < best_box.y0 || e.qy > best_box.y1) continue;
-        if (e.id == ia || e.id == ib) continue;
-        const Point2 p{e.x, e.y};
-        ++candidates_tested_;
-        if (orient2d(a, b, p) <= 0) continue;
-        if (best < 0 || incircle_perturbed(a, b, best_point, p) > 0) {
-          best = e.id;
-          best_point = p;
-          best_box = left_region_box(a, b, p);
+      if (has_visited && box.intersects(visited)) continue;
+      if (node.size > (1u << shift)) {  // a bucket spanning cells may be reached from several
+        if (std::find(big_buckets_.begin(), big_buckets_.end(), index) != big_buckets_.end()) continue;
+        big_buckets_.push_back(index);
+      }
+      scan(node);
+    }
+  };
+
+  constexpr std::uint32_t max_cells_per_side = 5;
+  while (true) {
+    const QuantBox square = square_around(qmx, qmy, half);
+    const std::uint32_t i0 = square.x0 >> shift, i1 = square.x1 >> shift;
+    const std::uint32_t j0 = square.y0 >> shift, j1 = square.y1 >> shift;
+    if (i1 - i0 < max_cells_per_side && j1 - j0 < max_cells_per_side) {
+      // Enter the tree at the grid's cells: skips the top levels for small squares.
+      const std::uint32_t ci = qmx >> shift, cj = qmy >> shift;
+      descend(tree_.cell_node(static_cast<int>(ci), static_cast<int>(cj)), square);
+      for (std::uint32_t j = j0; j <= j1; ++j) {
+        for (std::uint32_t i = i0; i <= i1; ++i) {
+          if (i != ci || j != cj) descend(tree_.cell_node(static_cast<int>(i), static_cast<int>(j)), square);
         }
       }
+    } else {
+      descend(0, square);
     }
     if (best >= 0 && square.contains(best_box)) return best;
     if (square.contains(full_domain)) return best;

@@ -34,6 +34,7 @@ class ApexSearch {
   const SiteSet& sites_;
   const BucketTree& tree_;
   std::vector<std::int32_t> stack_;
+  std::vector<std::int32_t> big_buckets_;  // buckets spanning several cells, scanned this search
   std::uint64_t candidates_tested_ = 0;
 };
 

@@ -69,6 +69,26 @@ BucketTree::BucketTree(const SiteSet& sites) {
   nodes_.reserve(static_cast<std::size_t>(n) / 2 + 16);
   nodes_.push_back({0, 0, 1u << quant_bits, -1, 0, n});
   split(0, codes);
+
+  // About four sites per cell when they are spread evenly.
+  while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * 4 < static_cast<std::size_t>(n)) ++grid_level_;
+  cell_node_.assign(std::size_t{1} << (2 * grid_level_), 0);
+  fill_cells(0);
+}
+
+void BucketTree::fill_cells(std::int32_t node_index) {
+  const Node& node = nodes_[node_index];
+  const int shift = cell_shift();
+  if (node.first_child >= 0 && node.size > (1u << shift)) {
+    for (int k = 0; k < 4; ++k) fill_cells(node.first_child + k);
+    return;
+  }
+  // A node of cell size, or a bucket covering several cells.
+  const std::uint32_t i0 = node.x0 >> shift, j0 = node.y0 >> shift;
+  const std::uint32_t cells = std::max<std::uint32_t>(1, node.size >> shift);
+  for (std::uint32_t j = j0; j < j0 + cells; ++j) {
+    for (std::uint32_t i = i0; i < i0 + cells; ++i) cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i] = node_index;
+  }
 }
 
 std::uint32_t BucketTree::bucket_size_at(std::uint32_t qx, std::uint32_t qy) const {

@@ -55,6 +55,12 @@ class BucketTree {
   /// Side (in quanta) of the bucket containing quantised point (qx, qy).
   std::uint32_t bucket_size_at(std::uint32_t qx, std::uint32_t qy) const;
 
+  /// A uniform grid of cells over the tree at one level, for direct access where the sites
+  /// are spread evenly: cell (i, j) names the tree node of that cell, or the bucket above it.
+  int grid_cells_per_side() const { return 1 << grid_level_; }
+  int cell_shift() const { return quant_bits - grid_level_; }  ///< quanta per cell = 2^shift
+  std::int32_t cell_node(int i, int j) const { return cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i]; }
+
  private:
   std::uint32_t quantise(double offset) const {
     const double q = offset * scale_;
@@ -64,7 +70,11 @@ class BucketTree {
   }
   void split(std::int32_t node, const std::vector<std::uint64_t>& codes);
 
+  void fill_cells(std::int32_t node);
+
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
+  int grid_level_ = 0;
+  std::vector<std::int32_t> cell_node_;
   std::vector<Entry> entries_;
   std::vector<Node> nodes_;
 };

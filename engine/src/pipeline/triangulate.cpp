@@ -1,6 +1,8 @@
 #include "expanse/triangulate.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
@@ -89,6 +91,7 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
       const detail::SeamStats seam =
           timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
       stats.seam_triangles = seam.triangles_made;
+      if (std::getenv("EXPANSE_DEBUG")) std::fprintf(stderr, "candidates tested %llu open %zu\n", (unsigned long long)seam.candidates_tested, seam.open_edges);
     } else if (impl_->options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
       partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
     }
