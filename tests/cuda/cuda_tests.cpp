@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
       cudaStream_t stream = nullptr;
       cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking);
       double* d_xy = nullptr;
-      cudaMalloc(&d_xy, points.size() * sizeof(Point2));
+      cudaMalloc(reinterpret_cast<void**>(&d_xy), points.size() * sizeof(Point2));
       cudaMemcpy(d_xy, points.data(), points.size() * sizeof(Point2), cudaMemcpyHostToDevice);
       Mesh mesh = cuda::triangulate_device(d_xy, points.size(), stream);
       cudaFree(d_xy);
