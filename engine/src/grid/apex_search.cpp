@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 
 #include "predicates/predicates.hpp"
 
@@ -86,14 +87,16 @@ bool ApexSearch::entirely_right(const QuantBox& box, const Point2& a, const Poin
   return cross < -tolerance;
 }
 
-QuantBox ApexSearch::left_region_box(const Point2& a, const Point2& b, const Point2& c) const {
+ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b, const Point2& c) const {
   // Circumcentre relative to a, with a forward error bound on each quantity: the box must hold
   // circle(a, b, c) ∩ left half-plane however the rounding fell.
   const double dx = b.x - a.x, dy = b.y - a.y, ex = c.x - a.x, ey = c.y - a.y;
   const double d2 = dx * dx + dy * dy, e2 = ex * ex + ey * ey;
   const double den = 2 * (dx * ey - dy * ex);
   const double den_error = 16 * eps * 2 * (std::fabs(dx * ey) + std::fabs(dy * ex));
-  if (!(den - den_error > 0) || !std::isfinite(den)) return full_domain;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const Region everywhere{-inf, -inf, inf, inf, full_domain};
+  if (!(den - den_error > 0) || !std::isfinite(den)) return everywhere;
   const double ux = (ey * d2 - dy * e2) / den;
   const double uy = (dx * e2 - ex * d2) / den;
   const double ux_error =
@@ -102,7 +105,7 @@ QuantBox ApexSearch::left_region_box(const Point2& a, const Point2& b, const Poi
   const double uy_error =
       (16 * eps * (std::fabs(dx) * e2 + std::fabs(ex) * d2) + std::fabs(uy) * den_error) / (den - den_error) +
       4 * eps * std::fabs(uy);
-  if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return full_domain;
+  if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return everywhere;
   const double r = std::sqrt(ux * ux + uy * uy);
   const double r_hi =
       std::sqrt((std::fabs(ux) + ux_error) * (std::fabs(ux) + ux_error) +
@@ -123,8 +126,8 @@ QuantBox ApexSearch::left_region_box(const Point2& a, const Point2& b, const Poi
   if (on_left(ux - r, uy)) min_x = std::min(min_x, cx - reach_x);
   if (on_left(ux, uy + r)) max_y = std::max(max_y, cy + reach_y);
   if (on_left(ux, uy - r)) min_y = std::min(min_y, cy - reach_y);
-  return {tree_.quantise_x(min_x), tree_.quantise_y(min_y), tree_.quantise_x(max_x),
-          tree_.quantise_y(max_y)};
+  return {min_x, min_y, max_x, max_y,
+          {tree_.quantise_x(min_x), tree_.quantise_y(min_y), tree_.quantise_x(max_x), tree_.quantise_y(max_y)}};
 }
 
 std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
@@ -137,13 +140,15 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
   const std::uint32_t qmy = tree_.quantise_y(0.5 * a.y + 0.5 * b.y);
   // Every circle through a and b reaches |ab|/2 from the midpoint: start at least that wide.
-  const double half_length = 0.5 * std::hypot(b.x - a.x, b.y - a.y) / tree_.quantum();
+  const double half_length = 0.5 * std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y)) / tree_.quantum();
   std::uint64_t half = std::max<std::uint64_t>(tree_.bucket_size_at(qmx, qmy),
                                                static_cast<std::uint64_t>(std::min(half_length, 4e9)) + 1);
 
   std::int32_t best = -1;
   Point2 best_point{};
   QuantBox best_box = full_domain;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Region region{-inf, -inf, inf, inf, full_domain};
   big_buckets_.clear();
 
   // Scans one bucket; the region box is recomputed once per bucket, not per improvement.
@@ -151,7 +156,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
     bool improved = false;
     for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
       const BucketTree::Entry& e = entries[i];
-      if (e.qx < best_box.x0 || e.qx > best_box.x1 || e.qy < best_box.y0 || e.qy > best_box.y1) continue;
+      if (e.x < region.x0 || e.x > region.x1 || e.y < region.y0 || e.y > region.y1) continue;
       if (e.id == ia || e.id == ib) continue;
       const Point2 p{e.x, e.y};
       ++candidates_tested_;
@@ -162,7 +167,10 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
         improved = true;
       }
     }
-    if (improved) best_box = left_region_box(a, b, best_point);
+    if (improved) {
+      region = left_region_box(a, b, best_point);
+      best_box = region.quant;
+    }
   };
 
   // One round visits every bucket that meets `square` but not `visited` (the previous round's

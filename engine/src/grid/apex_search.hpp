@@ -27,7 +27,12 @@ class ApexSearch {
 
  private:
   std::int32_t nearest(const Point2& q, std::int32_t exclude);
-  QuantBox left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
+  /// Bounding box of circle(a, b, c) ∩ left half-plane, enlarged by a proven error bound.
+  struct Region {
+    double x0, y0, x1, y1;  // real coordinates (infinite when the circle is unreliable)
+    QuantBox quant;         // the same box, quantised
+  };
+  Region left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
   QuantBox square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const;
   bool entirely_right(const QuantBox& box, const Point2& a, const Point2& b) const;
 

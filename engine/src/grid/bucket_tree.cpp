@@ -1,56 +1,19 @@
 #include "grid/bucket_tree.hpp"
 
+#include "grid/morton.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <utility>
 
 namespace expanse::detail {
-namespace {
-
-// Interleaves the bits of x (even positions) and y (odd positions).
-std::uint64_t spread_bits(std::uint32_t v) {
-  std::uint64_t x = v;
-  x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
-  x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
-  x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
-  x = (x | (x << 2)) & 0x3333333333333333ull;
-  x = (x | (x << 1)) & 0x5555555555555555ull;
-  return x;
-}
-
-// LSD radix sort of (code, index) pairs by code; 60-bit codes, 12-bit digits.
-void radix_sort(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& index) {
-  constexpr int digit_bits = 12;
-  constexpr std::size_t radix = std::size_t{1} << digit_bits;
-  const std::size_t n = codes.size();
-  std::vector<std::uint64_t> codes_tmp(n);
-  std::vector<std::int32_t> index_tmp(n);
-  std::vector<std::size_t> count(radix);
-  for (int shift = 0; shift < 2 * BucketTree::quant_bits; shift += digit_bits) {
-    std::fill(count.begin(), count.end(), 0);
-    for (std::uint64_t c : codes) ++count[(c >> shift) & (radix - 1)];
-    std::size_t sum = 0;
-    for (auto& c : count) sum += std::exchange(c, sum);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t slot = count[(codes[i] >> shift) & (radix - 1)]++;
-      codes_tmp[slot] = codes[i];
-      index_tmp[slot] = index[i];
-    }
-    codes.swap(codes_tmp);
-    index.swap(index_tmp);
-  }
-}
-
-}  // namespace
 
 BucketTree::BucketTree(const SiteSet& sites) {
-  const Box& b = sites.bounds;
-  origin_x_ = b.min_x;
-  origin_y_ = b.min_y;
-  const double side = std::max(b.max_x - b.min_x, b.max_y - b.min_y);
-  // Square domain so that squares in quanta are squares in the plane.
-  scale_ = side > 0 ? static_cast<double>(quant_max) / side : 1.0;
+  const Quantiser quantiser(sites.bounds);
+  origin_x_ = quantiser.origin_x;
+  origin_y_ = quantiser.origin_y;
+  scale_ = quantiser.scale;
 
   const std::int32_t n = sites.size();
   std::vector<std::uint64_t> codes(n);
@@ -58,13 +21,13 @@ BucketTree::BucketTree(const SiteSet& sites) {
   std::iota(order.begin(), order.end(), 0);
   for (std::int32_t i = 0; i < n; ++i) {
     const Point2& p = sites.points[i];
-    codes[i] = spread_bits(quantise_x(p.x)) | (spread_bits(quantise_y(p.y)) << 1);
+    codes[i] = morton_code(quantise_x(p.x), quantise_y(p.y));
   }
-  radix_sort(codes, order);
+  sort_by_code(codes, order);  // free when the sites were sorted spatially already
   entries_.resize(n);
   for (std::int32_t i = 0; i < n; ++i) {
     const Point2& p = sites.points[order[i]];
-    entries_[i] = {p.x, p.y, order[i], quantise_x(p.x), quantise_y(p.y)};
+    entries_[i] = {p.x, p.y, order[i]};
   }
   nodes_.reserve(static_cast<std::size_t>(n) / 2 + 16);
   nodes_.push_back({0, 0, 1u << quant_bits, -1, 0, n});
@@ -92,7 +55,7 @@ void BucketTree::fill_cells(std::int32_t node_index) {
 }
 
 std::uint32_t BucketTree::bucket_size_at(std::uint32_t qx, std::uint32_t qy) const {
-  std::int32_t node = 0;
+  std::int32_t node = cell_node(static_cast<int>(qx >> cell_shift()), static_cast<int>(qy >> cell_shift()));
   while (nodes_[node].first_child >= 0) {
     const Node& parent = nodes_[node];
     const std::uint32_t half = parent.size / 2;

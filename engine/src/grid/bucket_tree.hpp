@@ -30,7 +30,6 @@ class BucketTree {
   struct Entry {  // a site in Morton order
     double x, y;
     std::int32_t id;
-    std::uint32_t qx, qy;  // quantised coordinates, for cheap box rejection
   };
   struct Node {
     std::uint32_t x0, y0;  // quantised lower-left corner
@@ -62,6 +61,7 @@ class BucketTree {
   std::int32_t cell_node(int i, int j) const { return cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i]; }
 
  private:
+  // Must agree exactly with Quantiser (grid/morton.hpp).
   std::uint32_t quantise(double offset) const {
     const double q = offset * scale_;
     if (!(q > 0.0)) return 0;

@@ -13,7 +13,8 @@ struct Box {
 };
 
 struct SiteSet {
-  /// Distinct sites, in order of first occurrence, multiplied by 2^scale_exponent (exact).
+  /// Distinct sites multiplied by 2^scale_exponent (exact); in order of first occurrence as
+  /// prepare_sites() returns them, in Morton order after sort_sites_spatially().
   std::vector<Point2> points;
   /// site -> input index of the point it represents (its first occurrence).
   std::vector<std::int32_t> input_index;

@@ -52,7 +52,14 @@ bool lex_less(const Point2& a, const Point2& b) {
 }
 
 std::string tri_text(const Triangle& t) {
-  return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+  std::string s = "(";  // appended piece by piece: GCC 12 warns falsely on "(" + to_string(...)
+  s += std::to_string(t[0]);
+  s += ", ";
+  s += std::to_string(t[1]);
+  s += ", ";
+  s += std::to_string(t[2]);
+  s += ")";
+  return s;
 }
 
 // Which half of the circle of directions the edge a->b points into: true for angles in

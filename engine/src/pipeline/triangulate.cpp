@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "grid/bucket_tree.hpp"
+#include "grid/morton.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
 #include "pipeline/backend_registry.hpp"
@@ -66,7 +67,11 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
   stats.device = backend.device_name();
   stats.input_points = points.size();
 
-  const detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
+  const detail::SiteSet sites = timed(stats, "prepare", [&] {
+    detail::SiteSet prepared = detail::prepare_sites(points);
+    detail::sort_sites_spatially(prepared);
+    return prepared;
+  });
   stats.sites = sites.points.size();
   stats.duplicates = stats.input_points - stats.sites;
   const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });

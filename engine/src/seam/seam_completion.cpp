@@ -39,6 +39,10 @@ class FrontGrowth {
     auto& tris = mesh_.triangles;
     auto& nbrs = mesh_.neighbors;
     for (std::size_t head = 0; head < queue_.size(); ++head) {
+      if (head >= 65536 && 2 * head >= queue_.size()) {  // drop the consumed part: keeps the queue small
+        queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(head));
+        head = 0;
+      }
       const std::uint64_t k = queue_[head];
       const std::int64_t* entry = front_.find(k);
       if (!entry) continue;  // closed since it was queued

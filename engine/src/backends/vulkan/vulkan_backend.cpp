@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -152,9 +154,15 @@ class VulkanBackend final : public Backend {
                      GrowResult& result) {
     auto& triangles = result.partial.triangles;
     triangles.resize(count);
+    const std::size_t n = s.to_site.size();
     for (std::size_t t = 0; t < count; ++t)
-      for (int k = 0; k < 3; ++k)
-        triangles[t][std::size_t(k)] = s.to_site[std::size_t(raw[3 * t + std::size_t(k)])];
+      for (int k = 0; k < 3; ++k) {
+        const std::int32_t id = raw[3 * t + std::size_t(k)];
+        if (id < 0 || std::size_t(id) >= n)
+          throw Error(ErrorCode::internal, "Vulkan: the device returned site id " +
+                                               std::to_string(id) + " of " + std::to_string(n));
+        triangles[t][std::size_t(k)] = s.to_site[std::size_t(id)];
+      }
   }
 
   std::uint32_t workgroup(std::uint32_t wanted) const {
@@ -195,7 +203,7 @@ class VulkanBackend final : public Backend {
     put(upload, offset, s.predecessor);
     result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
 
-    const std::uint32_t wg = workgroup(64);
+    const std::uint32_t wg = workgroup(std::getenv("EXPANSE_VK_WG") ? std::uint32_t(std::atoi(std::getenv("EXPANSE_VK_WG"))) : 64u);
     const std::uint32_t spec[] = {wg, 48};
     Kernel& kernel = ctx.kernel("star", spirv::star(), 5, sizeof(GridParams), spec);
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters};
@@ -229,6 +237,17 @@ class VulkanBackend final : public Backend {
     start = Clock::now();
     std::uint32_t count[16];
     std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
+    if (std::getenv("EXPANSE_VULKAN_DEBUG"))
+      if (count[3]) { double a, b; std::memcpy(&a, &count[12], 8); std::memcpy(&b, &count[14], 8); std::fprintf(stderr, "plain %u left %u ps.y %a v.y %a\n", count[11], count[10], a, b); }
+      std::fprintf(stderr, "vulkan stars: written %u deferred %u overflow %u impossible %u | s %u status %u v %u steps %u phase %u v0 %u\n",
+                   count[0], count[1], count[2], count[3], count[4], count[5], count[6], count[7], count[8], count[9]);
+    if (std::getenv("EXPANSE_VULKAN_DEBUG") && count[3]) {
+      { const Point2 a = s.points[count[6]], b = s.points[count[4]]; int left = 0;
+        for (std::size_t q = 0; q < n; ++q) { const double c1 = (b.x - a.x) * (s.points[q].y - a.y) - (b.y - a.y) * (s.points[q].x - a.x); if (c1 > 0) { ++left; std::fprintf(stderr, "host left sorted %zu (%a %a)\n", q, s.points[q].x, s.points[q].y); } } }
+      for (std::uint32_t k : {count[4], count[6]})
+        std::fprintf(stderr, "  sorted %u site %d (%a, %a) pred %d cell %d\n", k, s.to_site[k],
+                     s.points[k].x, s.points[k].y, s.predecessor[k], s.cell_of[k]);
+    }
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
     std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);

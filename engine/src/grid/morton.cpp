@@ -1,0 +1,68 @@
+#include "grid/morton.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <utility>
+
+namespace expanse::detail {
+
+Quantiser::Quantiser(const Box& box) : origin_x(box.min_x), origin_y(box.min_y) {
+  const double side = std::max(box.max_x - box.min_x, box.max_y - box.min_y);
+  scale = side > 0 ? static_cast<double>(max) / side : 1.0;
+}
+
+std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
+  const auto spread = [](std::uint32_t v) {
+    std::uint64_t x = v;
+    x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+    x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+    x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    x = (x | (x << 2)) & 0x3333333333333333ull;
+    x = (x | (x << 1)) & 0x5555555555555555ull;
+    return x;
+  };
+  return spread(qx) | (spread(qy) << 1);
+}
+
+void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values) {
+  if (std::is_sorted(codes.begin(), codes.end())) return;
+  constexpr int digit_bits = 12;
+  constexpr std::size_t radix = std::size_t{1} << digit_bits;
+  const std::size_t n = codes.size();
+  std::vector<std::uint64_t> codes_tmp(n);
+  std::vector<std::int32_t> values_tmp(n);
+  std::vector<std::size_t> count(radix);
+  for (int shift = 0; shift < 2 * Quantiser::bits; shift += digit_bits) {
+    std::fill(count.begin(), count.end(), 0);
+    for (std::uint64_t c : codes) ++count[(c >> shift) & (radix - 1)];
+    std::size_t sum = 0;
+    for (auto& c : count) sum += std::exchange(c, sum);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t slot = count[(codes[i] >> shift) & (radix - 1)]++;
+      codes_tmp[slot] = codes[i];
+      values_tmp[slot] = values[i];
+    }
+    codes.swap(codes_tmp);
+    values.swap(values_tmp);
+  }
+}
+
+void sort_sites_spatially(SiteSet& sites) {
+  const Quantiser quantiser(sites.bounds);
+  const std::size_t n = sites.points.size();
+  std::vector<std::uint64_t> codes(n);
+  std::vector<std::int32_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  for (std::size_t i = 0; i < n; ++i) codes[i] = morton_code(quantiser.x(sites.points[i].x), quantiser.y(sites.points[i].y));
+  sort_by_code(codes, order);
+  std::vector<Point2> points(n);
+  std::vector<std::int32_t> input_index(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    points[i] = sites.points[order[i]];
+    input_index[i] = sites.input_index[order[i]];
+  }
+  sites.points = std::move(points);
+  sites.input_index = std::move(input_index);
+}
+
+}  // namespace expanse::detail
