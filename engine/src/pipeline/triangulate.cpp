@@ -1,13 +1,13 @@
 #include "expanse/triangulate.hpp"
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
 #include "grid/bucket_tree.hpp"
 #include "grid/morton.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
+#include "predicates/predicates.hpp"
+#include "expanse/error.hpp"
 #include "pipeline/backend_registry.hpp"
 #include "seam/seam_completion.hpp"
 
@@ -49,6 +49,14 @@ struct Triangulator::Impl {
 };
 
 Triangulator::Triangulator(const Options& options) : impl_(std::make_unique<Impl>()) {
+  // Exactness rests on error-free transformations; a build that fused them into FMA, or a CPU
+  // flushing subnormals, must not return meshes. Checked once per process.
+  static const bool arithmetic_is_exact = detail::predicates_self_test();
+  if (!arithmetic_is_exact) {
+    throw Error(ErrorCode::internal,
+                "the exact-arithmetic self-test failed: this build contracts floating-point operations "
+                "(FMA) or flushes subnormals; rebuild with -ffp-contract=off");
+  }
   impl_->options = options;
   impl_->backend = detail::make_backend(options.backend, options.device);
 }
@@ -96,7 +104,6 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
       const detail::SeamStats seam =
           timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
       stats.seam_triangles = seam.triangles_made;
-      if (std::getenv("EXPANSE_DEBUG")) std::fprintf(stderr, "candidates tested %llu open %zu\n", (unsigned long long)seam.candidates_tested, seam.open_edges);
     } else if (impl_->options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
       partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
     }
