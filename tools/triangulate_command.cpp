@@ -61,9 +61,10 @@ std::string stage_list(const std::vector<StageTime>& stages) {
 
 // Which triangles the seam stage made. The pipeline appends the seam's triangles after the
 // device's, so the split is by count; if the counts do not add up, nothing is coloured.
+// The CPU backend *is* the seam stage, so colouring all its triangles would say nothing.
 std::vector<std::uint8_t> triangle_origin(const Mesh& mesh) {
   const Stats& s = mesh.stats;
-  if (s.seam_triangles == 0 || s.gpu_triangles + s.seam_triangles != mesh.triangles.size()) return {};
+  if (s.backend == "cpu" || s.seam_triangles == 0 || s.gpu_triangles + s.seam_triangles != mesh.triangles.size()) return {};
   std::vector<std::uint8_t> origin(mesh.triangles.size(), 0);
   std::fill(origin.begin() + static_cast<std::ptrdiff_t>(s.gpu_triangles), origin.end(), 1);
   return origin;
