@@ -139,10 +139,11 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
 
   const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
   const std::uint32_t qmy = tree_.quantise_y(0.5 * a.y + 0.5 * b.y);
-  // Every circle through a and b reaches |ab|/2 from the midpoint: start at least that wide.
-  const double half_length = 0.5 * std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y)) / tree_.quantum();
-  std::uint64_t half = std::max<std::uint64_t>(tree_.bucket_size_at(qmx, qmy),
-                                               static_cast<std::uint64_t>(std::min(half_length, 4e9)) + 1);
+  // The region holds a and b, |ab|/2 from the midpoint, and for a well-shaped triangle its apex
+  // lies about 0.9 |ab| away: a square of half-size |ab| usually settles it in one round.
+  const double length = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y)) / tree_.quantum();
+  std::uint64_t half = std::max<std::uint64_t>(std::uint64_t{1} << shift,
+                                               static_cast<std::uint64_t>(std::min(length, 4e9)) + 1);
 
   std::int32_t best = -1;
   Point2 best_point{};

@@ -1,6 +1,6 @@
 #include "grid/bucket_tree.hpp"
 
-#include "grid/morton.hpp"
+#include "input/morton.hpp"
 
 #include <algorithm>
 #include <cmath>

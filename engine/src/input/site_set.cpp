@@ -2,11 +2,12 @@
 
 #include <cfloat>
 #include <cmath>
-#include <cstring>
+#include <algorithm>
 #include <limits>
 #include <string>
 
 #include "expanse/error.hpp"
+#include "input/morton.hpp"
 
 namespace expanse::detail {
 namespace {
@@ -37,47 +38,6 @@ int exact_scale_exponent(double max_abs, double min_nonzero_abs) {
   return e;
 }
 
-// Open-addressing set of coordinate pairs -> first site id; value equality (0.0 == -0.0).
-class PointIndex {
- public:
-  explicit PointIndex(std::size_t n) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * n) capacity <<= 1;
-    slots_.assign(capacity, -1);
-    mask_ = capacity - 1;
-  }
-  // Returns the site already holding p, or inserts `site` and returns it.
-  std::int32_t find_or_insert(const Point2& p, std::int32_t site, const std::vector<Point2>& pts) {
-    std::size_t slot = hash(p) & mask_;
-    while (true) {
-      const std::int32_t held = slots_[slot];
-      if (held < 0) {
-        slots_[slot] = site;
-        return site;
-      }
-      if (pts[held].x == p.x && pts[held].y == p.y) return held;
-      slot = (slot + 1) & mask_;
-    }
-  }
-
- private:
-  static std::uint64_t bits(double v) {
-    v += 0.0;  // -0.0 -> +0.0, so equal values hash alike
-    std::uint64_t b;
-    std::memcpy(&b, &v, sizeof b);
-    return b;
-  }
-  static std::size_t hash(const Point2& p) {
-    std::uint64_t h = bits(p.x) * 0x9E3779B97F4A7C15ull ^ (bits(p.y) + 0x7F4A7C159E3779B9ull);
-    h ^= h >> 29;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 32;
-    return static_cast<std::size_t>(h);
-  }
-  std::vector<std::int32_t> slots_;
-  std::size_t mask_ = 0;
-};
-
 }  // namespace
 
 SiteSet prepare_sites(std::span<const Point2> input) {
@@ -98,35 +58,50 @@ SiteSet prepare_sites(std::span<const Point2> input) {
 
   SiteSet sites;
   sites.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
-  sites.representative.resize(input.size());
-  sites.points.reserve(input.size());
-  sites.input_index.reserve(input.size());
-
-  PointIndex index(input.size());
-  for (std::size_t i = 0; i < input.size(); ++i) {
-    const Point2 scaled{std::ldexp(input[i].x, sites.scale_exponent),
-                        std::ldexp(input[i].y, sites.scale_exponent)};
-    const auto next = static_cast<std::int32_t>(sites.points.size());
-    sites.points.push_back(scaled);  // provisional; popped again if it is a duplicate
-    const std::int32_t site = index.find_or_insert(scaled, next, sites.points);
-    if (site != next) {
-      sites.points.pop_back();
-      sites.representative[i] = sites.input_index[site];
-    } else {
-      sites.input_index.push_back(static_cast<std::int32_t>(i));
-      sites.representative[i] = static_cast<std::int32_t>(i);
-    }
+  const std::size_t n = input.size();
+  std::vector<Point2> scaled(n);
+  Box box{};
+  for (std::size_t i = 0; i < n; ++i) {
+    scaled[i] = {std::ldexp(input[i].x, sites.scale_exponent), std::ldexp(input[i].y, sites.scale_exponent)};
+    if (i == 0) box = {scaled[0].x, scaled[0].y, scaled[0].x, scaled[0].y};
+    box.min_x = std::min(box.min_x, scaled[i].x);
+    box.max_x = std::max(box.max_x, scaled[i].x);
+    box.min_y = std::min(box.min_y, scaled[i].y);
+    box.max_y = std::max(box.max_y, scaled[i].y);
   }
+  sites.bounds = box;
 
-  if (!sites.points.empty()) {
-    Box box{sites.points[0].x, sites.points[0].y, sites.points[0].x, sites.points[0].y};
-    for (const Point2& p : sites.points) {
-      box.min_x = std::min(box.min_x, p.x);
-      box.max_x = std::max(box.max_x, p.x);
-      box.min_y = std::min(box.min_y, p.y);
-      box.max_y = std::max(box.max_y, p.y);
+  // Morton order, stable: equal points share a code, so each group of duplicates ends up in one
+  // run of equal codes, its smallest input index first.
+  const Quantiser quantiser(box);
+  std::vector<std::uint64_t> codes(n);
+  std::vector<std::int32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    codes[i] = morton_code(quantiser.x(scaled[i].x), quantiser.y(scaled[i].y));
+    order[i] = static_cast<std::int32_t>(i);
+  }
+  sort_by_code(codes, order);
+
+  sites.representative.resize(n);
+  sites.points.reserve(n);
+  sites.input_index.reserve(n);
+  std::size_t run_start_site = 0;  // first site of the current run of equal codes
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k == 0 || codes[k] != codes[k - 1]) run_start_site = sites.points.size();
+    const std::int32_t i = order[k];
+    const Point2 p = scaled[i];
+    std::int32_t representative = i;
+    for (std::size_t s = run_start_site; s < sites.points.size(); ++s) {  // runs are tiny
+      if (sites.points[s].x == p.x && sites.points[s].y == p.y) {
+        representative = sites.input_index[s];
+        break;
+      }
     }
-    sites.bounds = box;
+    sites.representative[i] = representative;
+    if (representative == i) {
+      sites.points.push_back(p);
+      sites.input_index.push_back(i);
+    }
   }
   return sites;
 }

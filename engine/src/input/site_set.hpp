@@ -13,8 +13,8 @@ struct Box {
 };
 
 struct SiteSet {
-  /// Distinct sites multiplied by 2^scale_exponent (exact); in order of first occurrence as
-  /// prepare_sites() returns them, in Morton order after sort_sites_spatially().
+  /// Distinct sites multiplied by 2^scale_exponent (exact), in Morton order: sites near in the
+  /// plane are near in memory, so every later stage walks memory mostly in order.
   std::vector<Point2> points;
   /// site -> input index of the point it represents (its first occurrence).
   std::vector<std::int32_t> input_index;
@@ -28,7 +28,8 @@ struct SiteSet {
 };
 
 /// Validates (NaN/Inf -> Error(invalid_input) naming the input index), scales by a power of
-/// two, merges exact duplicates. Throws Error(too_large) above 2^31 - 1 points.
+/// two, sorts in Morton order and merges exact duplicates (the smallest input index represents
+/// each group). Throws Error(too_large) above 2^31 - 1 points.
 SiteSet prepare_sites(std::span<const Point2> input);
 
 }  // namespace expanse::detail

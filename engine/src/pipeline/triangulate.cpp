@@ -3,7 +3,6 @@
 #include <chrono>
 
 #include "grid/bucket_tree.hpp"
-#include "grid/morton.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
 #include "predicates/predicates.hpp"
@@ -75,11 +74,7 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
   stats.device = backend.device_name();
   stats.input_points = points.size();
 
-  const detail::SiteSet sites = timed(stats, "prepare", [&] {
-    detail::SiteSet prepared = detail::prepare_sites(points);
-    detail::sort_sites_spatially(prepared);
-    return prepared;
-  });
+  const detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
   stats.sites = sites.points.size();
   stats.duplicates = stats.input_points - stats.sites;
   const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });

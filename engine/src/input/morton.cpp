@@ -1,4 +1,4 @@
-#include "grid/morton.hpp"
+#include "input/morton.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -45,24 +45,6 @@ void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& 
     codes.swap(codes_tmp);
     values.swap(values_tmp);
   }
-}
-
-void sort_sites_spatially(SiteSet& sites) {
-  const Quantiser quantiser(sites.bounds);
-  const std::size_t n = sites.points.size();
-  std::vector<std::uint64_t> codes(n);
-  std::vector<std::int32_t> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  for (std::size_t i = 0; i < n; ++i) codes[i] = morton_code(quantiser.x(sites.points[i].x), quantiser.y(sites.points[i].y));
-  sort_by_code(codes, order);
-  std::vector<Point2> points(n);
-  std::vector<std::int32_t> input_index(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    points[i] = sites.points[order[i]];
-    input_index[i] = sites.input_index[order[i]];
-  }
-  sites.points = std::move(points);
-  sites.input_index = std::move(input_index);
 }
 
 }  // namespace expanse::detail

@@ -33,8 +33,5 @@ std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy);
 /// Sorts (codes, values) by code, stably (LSD radix sort).
 void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values);
 
-/// Renumbers the sites in Morton order, so sites near in the plane are near in memory: every
-/// later stage (buckets, growth, output) then walks memory mostly in order.
-void sort_sites_spatially(SiteSet& sites);
 
 }  // namespace expanse::detail
