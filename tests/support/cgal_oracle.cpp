@@ -94,18 +94,30 @@ OracleResult cgal_delaunay(std::span<const Point2> points) {
 
 std::vector<std::array<std::int32_t, 3>> compute_neighbors(std::span<const Triangle> triangles) {
   std::vector<std::array<std::int32_t, 3>> neighbors(triangles.size(), {no_neighbor, no_neighbor, no_neighbor});
-  auto key = [](std::int32_t a, std::int32_t b) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-  };
-  std::unordered_map<std::uint64_t, std::int32_t> slot;  // directed edge -> 3*t + k
-  slot.reserve(triangles.size() * 3);
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      slot[key(triangles[t][(k + 1) % 3], triangles[t][(k + 2) % 3])] = static_cast<std::int32_t>(3 * t + k);
+  // Directed edges grouped by origin (CSR); the twin of a->b is a short scan of b's edges.
+  std::int32_t n = 0;
+  for (const auto& t : triangles) n = std::max({n, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1, 0);
+  for (const auto& t : triangles)
+    for (auto v : t) ++start[v + 1];
+  for (std::int32_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<std::int32_t> target(start[n]);
+  std::vector<std::int64_t> slot(start[n]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      auto it = slot.find(key(triangles[t][(k + 2) % 3], triangles[t][(k + 1) % 3]));
-      if (it != slot.end()) neighbors[t][k] = it->second / 3;
+      const std::size_t e = fill[triangles[t][(k + 1) % 3]]++;
+      target[e] = triangles[t][(k + 2) % 3];
+      slot[e] = static_cast<std::int64_t>(3 * t + k);
+    }
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = triangles[t][(k + 1) % 3], b = triangles[t][(k + 2) % 3];
+      for (std::size_t e = start[b]; e < start[b + 1]; ++e)
+        if (target[e] == a) {
+          neighbors[t][k] = static_cast<std::int32_t>(slot[e] / 3);
+          break;
+        }
     }
   return neighbors;
 }

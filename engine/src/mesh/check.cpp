@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -109,17 +108,22 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
   std::vector<std::int32_t> rep(N);
   std::size_t sites = 0;
   {
-    std::vector<std::int32_t> order(N);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-      if (lex_less(points[a], points[b])) return true;
-      if (lex_less(points[b], points[a])) return false;
-      return a < b;
+    // Sorting copies (not indices into `points`) keeps the sort's memory access sequential.
+    struct Keyed {
+      Point2 p;
+      std::int32_t index;
+    };
+    std::vector<Keyed> order(N);
+    for (std::int32_t i = 0; i < N; ++i) order[i] = {points[i], i};
+    std::sort(order.begin(), order.end(), [](const Keyed& a, const Keyed& b) {
+      if (lex_less(a.p, b.p)) return true;
+      if (lex_less(b.p, a.p)) return false;
+      return a.index < b.index;
     });
     for (std::int32_t i = 0; i < N;) {
-      const std::int32_t first = order[i];
+      const Keyed& first = order[i];
       std::int32_t j = i;
-      while (j < N && points[order[j]] == points[first]) rep[order[j++]] = first;
+      while (j < N && order[j].p == first.p) rep[order[j++].index] = first.index;
       ++sites;
       i = j;
     }
