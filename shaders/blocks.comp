@@ -7,6 +7,9 @@
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x_id = 0) in;
+// Loop iterations one invocation may spend on searches before it leaves its edges open for the
+// seam stage (lavapipe's loop cap, see grid.glsl).
+layout(constant_id = 1) const int LOOP_BUDGET = 1000000000;
 
 layout(std430, set = 0, binding = 0) readonly buffer Sites { dvec2 sites[]; };
 layout(std430, set = 0, binding = 1) readonly buffer LocalIds { int local_ids[]; };
@@ -89,6 +92,10 @@ void push_edge(int parity, int la, int lb) {
 }
 
 void expand(Grid g, int block, int next_parity, uint edge) {
+  if (loop_budget < 0) {
+    atomicAdd(counters[1], 1u);
+    return;
+  }
   int la = int(edge >> 16), lb = int(edge & 0xffffu);
   if (edge_known(la, lb)) return;  // another expansion already made its triangle
   int a = local_ids[slot_base + la], b = local_ids[slot_base + lb];
@@ -148,6 +155,7 @@ void main() {
   active_capacity = blocks[info + 11];
   uint tid = gl_LocalInvocationID.x;
   uint threads = gl_WorkGroupSize.x;
+  loop_budget = LOOP_BUDGET;
 
   if (tid == 0u) {
     s_count = 0u;
@@ -175,6 +183,7 @@ void main() {
   for (;;) {
     uint count = s_count;
     if (count == 0u) break;
+    --loop_budget;
     for (uint i = tid; i < count; i += threads)
       expand(g, block, 1 - parity, active_edges[active_base + parity * active_capacity + int(i)]);
     memoryBarrierBuffer();

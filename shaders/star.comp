@@ -6,7 +6,11 @@
 
 layout(local_size_x_id = 0) in;
 // Longest star a site walks before giving up and deferring to the seam stage.
-layout(constant_id = 1) const int MAX_STAR = 48;
+layout(constant_id = 1) const int MAX_STAR_SPEC = 48;  // unused: see MAX_STAR
+// Array sizes stay literal: arrays sized by specialization constants are a driver risk.
+const int MAX_STAR = 48;
+// Loop iterations one invocation may spend before deferring its site (see grid.glsl).
+layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
 
 layout(std430, set = 0, binding = 0) readonly buffer Sites { dvec2 sites[]; };
 layout(std430, set = 0, binding = 1) readonly buffer CellStart { int cell_start[]; };
@@ -35,6 +39,7 @@ void defer_site() { atomicAdd(counters[1], 1u); }
 void main() {
   int s = params.first_site + int(gl_GlobalInvocationID.x);
   if (s >= params.site_count) return;
+  loop_budget = LOOP_BUDGET;
 
   Grid g;
   g.origin = params.origin;
@@ -64,6 +69,7 @@ void main() {
   int steps = 0;
   bool closed = false;
   while (predecessor[s] != v) {
+    --loop_budget;
     int c;
     status = apex_search(g, s, v, ps, sites[v], c, slot);
     if (status != SEARCH_FOUND || ++steps > MAX_STAR) {
@@ -87,6 +93,7 @@ void main() {
     // triangles (v, s, apex(v->s)).
     v = v0;
     while (predecessor[v] != s) {
+      --loop_budget;
       int c;
       status = apex_search(g, v, s, sites[v], ps, c, slot);
       if (status != SEARCH_FOUND || ++steps > MAX_STAR) {
@@ -103,6 +110,14 @@ void main() {
     }
   }
 
+  // Canary for lavapipe's loop cap: once it is reached every loop runs at most once, so a
+  // two-trip loop that trips once means some search above may have been cut short.
+  int canary = 0;
+  for (int i = 0; i < min(params.site_count, 2); ++i) ++canary;
+  if (canary != 2 || loop_budget < 0) {
+    defer_site();
+    return;
+  }
   if (owned == 0) return;
   uint at = atomicAdd(counters[0], uint(owned));
   if (int(at) + owned > params.triangle_capacity) {

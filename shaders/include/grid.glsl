@@ -14,6 +14,12 @@
 
 #include "predicates.glsl"
 
+// Mesa's llvmpipe (lavapipe) caps the loop iterations of one shader invocation (65535 back
+// edges, shared by the SIMD lanes executing together) and then silently *breaks out of every
+// loop*, which would make a search miss sites. So every search spends from this per-invocation
+// budget and defers once it runs out; the backend sets the budget low on CPU devices only.
+int loop_budget = 1000000000;
+
 struct Grid {
   dvec2 origin;
   dvec2 inv_width;
@@ -102,6 +108,7 @@ bool clearly_outside(dvec3 circle, dvec2 p) {
       bool edge_row_ = (cj_ == m.y - r) || (cj_ == m.y + r);                          \
       int step_ = edge_row_ ? 1 : max(1, 2 * r);                                      \
       for (int ci_ = edge_row_ ? x0_ : m.x - r; ci_ <= x1_; ci_ += step_) {           \
+        if (--loop_budget < 0) return SEARCH_DEFER;                                  \
         if (ci_ < x0_) continue;                                                      \
         int CI = ci_, CJ = cj_;                                                       \
         BODY                                                                          \
@@ -122,6 +129,7 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
   ivec4 range = ivec4(g.lo, g.hi);
   dvec3 circle = dvec3(0.0lf, 0.0lf, -1.0lf);
   for (int r = 0; r <= max_r; ++r) {
+    if (--loop_budget < 0) return SEARCH_DEFER;
     if (apex >= 0 && bounded) {
       // Visited so far: rings 0..r-1. Stop once they hold the region (within the grid).
       ivec4 need = ivec4(max(range.xy, g.lo), min(range.zw, g.hi));
@@ -135,6 +143,7 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
       int cell = g.cell_base + local_cell(g, CI, CJ);
       int end = cell_begin(cell + 1);
       for (int slot = cell_begin(cell); slot < end; ++slot) {
+        if (--loop_budget < 0) return SEARCH_DEFER;
         int ip = slot_site(slot);
         if (ip == ia || ip == ib) continue;
         dvec2 p = site_at(ip);
@@ -185,6 +194,7 @@ int nearest_search(Grid g, int is, out int nearest, out int nearest_slot) {
   dvec2 best_p = s;
   ivec4 range = ivec4(g.lo, g.hi);
   for (int r = 0; r <= max_r; ++r) {
+    if (--loop_budget < 0) return SEARCH_DEFER;
     if (nearest >= 0) {
       ivec4 need = ivec4(max(range.xy, g.lo), min(range.zw, g.hi));
       if (need.x >= m.x - (r - 1) && need.z <= m.x + (r - 1) && need.y >= m.y - (r - 1) &&
@@ -197,6 +207,7 @@ int nearest_search(Grid g, int is, out int nearest, out int nearest_slot) {
       int cell = g.cell_base + local_cell(g, CI, CJ);
       int end = cell_begin(cell + 1);
       for (int slot = cell_begin(cell); slot < end; ++slot) {
+        if (--loop_budget < 0) return SEARCH_DEFER;
         int ip = slot_site(slot);
         if (ip == is) continue;
         dvec2 p = site_at(ip);

@@ -165,6 +165,13 @@ class VulkanBackend final : public Backend {
       }
   }
 
+  // lavapipe breaks out of every loop after 65535 iterations per SIMD batch (8 lanes); a lane
+  // budget of 1000 keeps the batch under that cap.
+  std::uint32_t loop_budget() const {
+    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1000u
+                                                                                     : 1000000000u;
+  }
+
   std::uint32_t workgroup(std::uint32_t wanted) const {
     const auto& limits = context_->limits();
     return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
@@ -203,8 +210,13 @@ class VulkanBackend final : public Backend {
     put(upload, offset, s.predecessor);
     result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
 
-    const std::uint32_t wg = workgroup(std::getenv("EXPANSE_VK_WG") ? std::uint32_t(std::atoi(std::getenv("EXPANSE_VK_WG"))) : 64u);
-    const std::uint32_t spec[] = {wg, 48};
+    // On lavapipe one workgroup = one SIMD batch, so the loop cap (see loop_budget) is shared
+    // by as few invocations as possible.
+    const bool cpu_device =
+        ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    const std::uint32_t wg =
+        workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
+    const std::uint32_t spec[] = {wg, 48, loop_budget()};
     Kernel& kernel = ctx.kernel("star", spirv::star(), 5, sizeof(GridParams), spec);
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters};
     kernel.bind(bindings);
@@ -237,17 +249,6 @@ class VulkanBackend final : public Backend {
     start = Clock::now();
     std::uint32_t count[16];
     std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
-    if (std::getenv("EXPANSE_VULKAN_DEBUG"))
-      if (count[3]) { double a, b; std::memcpy(&a, &count[12], 8); std::memcpy(&b, &count[14], 8); std::fprintf(stderr, "plain %u left %u ps.y %a v.y %a\n", count[11], count[10], a, b); }
-      std::fprintf(stderr, "vulkan stars: written %u deferred %u overflow %u impossible %u | s %u status %u v %u steps %u phase %u v0 %u\n",
-                   count[0], count[1], count[2], count[3], count[4], count[5], count[6], count[7], count[8], count[9]);
-    if (std::getenv("EXPANSE_VULKAN_DEBUG") && count[3]) {
-      { const Point2 a = s.points[count[6]], b = s.points[count[4]]; int left = 0;
-        for (std::size_t q = 0; q < n; ++q) { const double c1 = (b.x - a.x) * (s.points[q].y - a.y) - (b.y - a.y) * (s.points[q].x - a.x); if (c1 > 0) { ++left; std::fprintf(stderr, "host left sorted %zu (%a %a)\n", q, s.points[q].x, s.points[q].y); } } }
-      for (std::uint32_t k : {count[4], count[6]})
-        std::fprintf(stderr, "  sorted %u site %d (%a, %a) pred %d cell %d\n", k, s.to_site[k],
-                     s.points[k].x, s.points[k].y, s.predecessor[k], s.cell_of[k]);
-    }
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
     std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
@@ -384,7 +385,7 @@ class VulkanBackend final : public Backend {
     if (threads == 0)
       threads = std::uint32_t(std::clamp(std::sqrt(double(n) / blocks), 32.0, 1024.0));
     threads = workgroup(threads);
-    const std::uint32_t spec[] = {threads};
+    const std::uint32_t spec[] = {threads, loop_budget()};
     Kernel& kernel = ctx.kernel("blocks", spirv::blocks(), 10, sizeof(GridParams), spec);
     Buffer* bindings[] = {&sites, &ids, &cell_start, &predecessor, &owners,
                           &block_info, &edge_set, &active, &triangles, &counters};
