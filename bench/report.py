@@ -118,7 +118,9 @@ def fmt_ms(ms):
 
 
 def fmt_ratio(x):
-    return "—" if x is None else f"{x:.2f}×"
+    if x is None:
+        return "—"
+    return f"{x:.2f}×" if x >= 0.1 else f"{x:.2g}×"
 
 
 def fmt_n(n):
@@ -210,6 +212,22 @@ def peers_section(records, docs):
         out.append("Times in ms: median (min–max). Ratios > 1 mean slower than CGAL.\n")
         out.append(table(header, rows))
 
+        # Where the time goes, at the largest size: the stages each implementation reports.
+        largest = max(n for _, n in keys)
+        stage_rows = []
+        for dist in sorted({d for d, _ in keys}, key=lambda d: dist_order((d, 0))):
+            for l in labels:
+                r = cells.get((dist, largest, l))
+                if r and r.get("stages_ms"):
+                    stages = ", ".join(f"{k} {fmt_ms(v)}" for k, v in r["stages_ms"].items())
+                    device = r.get("device_stages_ms") or {}
+                    if device:
+                        stages += "; device: " + ", ".join(f"{k} {fmt_ms(v)}" for k, v in device.items())
+                    stage_rows.append([dist, l, fmt_ms(median(r)), stages])
+        if stage_rows:
+            out.append(f"\nStages at n = {fmt_n(largest)} (median ms of each stage):\n")
+            out.append(table(["distribution", "implementation", "total ms", "stages"], stage_rows))
+
         # Issue 2, item 11: the CPU backend within 2x of CGAL at 1M uniform sites.
         cpu = cells.get(("uniform", 1000000, "expanse cpu"))
         cgal = cells.get(("uniform", 1000000, "cgal"))
@@ -264,13 +282,14 @@ def threads_section(records, docs):
             for n, pts in sorted(by_n.items()):
                 pts.sort()
                 best_t, best = min(pts, key=lambda p: p[1])
-                ax.plot([p[0] for p in pts], [p[1] / best for p in pts], marker="o",
-                        label=f"n = {fmt_n(n)}")
+                line, = ax.plot([p[0] for p in pts], [p[1] / best for p in pts], marker="o",
+                                label=f"n = {fmt_n(n)}")
+                ax.axvline(math.sqrt(n / 256), color=line.get_color(), ls=":", lw=1)
                 rows.append([backend, device, layout, fmt_n(n), best_t,
                              f"{math.sqrt(n / 256):.0f}", fmt_ms(best)])
             ax.set_xscale("log", base=2)
             ax.set_xlabel("threads per block")
-            ax.set_ylabel("time / best time")
+            ax.set_ylabel("time / best time (dotted: √(n/256))")
             ax.set_title(f"Fig. IV.1 — {backend} on {device} ({layout} layout)", fontsize=9)
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=8)
@@ -386,10 +405,10 @@ def pictures_section(records, docs):
             continue
         out.append(f"### {hostname}\n\n{provenance(run)}\n")
         rows = []
-        for r in sorted(pictured, key=lambda r: (r["distribution"], label(r))):
+        for r in sorted(pictured, key=lambda r: (dist_order((r["distribution"], r["n"])), label(r))):
             name = f"bench-{slug(hostname)}-{Path(r['picture']).name}"
             shutil.copyfile(r["picture"], docs / name)
-            note = r.get("picture_note", "GPU triangles and seam triangles in different colours")
+            note = r.get("picture_note", "white: GPU front growth; orange: CPU seam stage")
             rows.append([r["distribution"], fmt_n(r["n"]), label(r),
                          f"{100 * r.get('seam_share', 0):.1f}%", note, f"![]({name})"])
         out.append(table(["distribution", "n", "backend", "seam share", "colours", "picture"], rows))

@@ -18,6 +18,7 @@
 #                         device machine); otherwise git is asked at run time
 #   --results DIR         where the JSON lines go (overrides the defaults above)
 #   --note TEXT           stored in every record (say how loaded the machine was)
+#   --timeout SECONDS     kill an experiment that runs longer (quick: 45, full: 3000)
 #   --no-report           only measure
 # Each experiment is one expanse-bench invocation, so a device session with a per-command time
 # limit can run them one at a time (--experiments scaling, then --experiments threads, ...).
@@ -34,6 +35,7 @@ gpu="vulkan,cuda"
 results=""
 note=""
 dists="uniform,gaussian"
+timeout_s=""
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -48,7 +50,8 @@ while [[ $# -gt 0 ]]; do
     --commit) export EXPANSE_COMMIT="$2"; shift ;;
     --note) note="$2"; shift ;;
     --no-report) report=0 ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    --timeout) timeout_s="$2"; shift ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -85,6 +88,8 @@ if [[ -z "$results" ]]; then
   fi
 fi
 mkdir -p "$results"
+# A backend under construction can hang or run away with memory; CI must still finish.
+[[ -z "$timeout_s" ]] && timeout_s=$([[ $mode == quick ]] && echo 45 || echo 3000)
 
 load="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || true)"
 [[ -z "$note" ]] && note="load average at start: $load"
@@ -99,7 +104,8 @@ run() {  # run EXPERIMENT ARGS...: one expanse-bench invocation appending to EXP
   shift
   echo "== $experiment" >&2
   local status=0
-  "$bench" --experiment "$experiment" --note "$note" -o "$results/$experiment.jsonl" "$@" ||
+  timeout --kill-after=10 "$timeout_s" \
+    "$bench" --experiment "$experiment" --note "$note" -o "$results/$experiment.jsonl" "$@" ||
     status=$?
   if [[ $status -ne 0 ]]; then
     echo "run.sh: experiment $experiment failed (exit status $status)" >&2

@@ -35,7 +35,8 @@
 
 namespace {
 
-using json = nlohmann::json;
+// Ordered: stages keep the order they ran in, and records read top-down like the schema.
+using json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 
 struct Config {

@@ -59,14 +59,14 @@ Summary summarize(std::vector<double> samples) {
   return {median, samples.front(), samples.back()};
 }
 
-nlohmann::json to_json(const Summary& s) {
+nlohmann::ordered_json to_json(const Summary& s) {
   return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
 
-nlohmann::json machine_info() {
+nlohmann::ordered_json machine_info() {
   char host[256] = {};
   ::gethostname(host, sizeof host - 1);
-  nlohmann::json info;
+  nlohmann::ordered_json info;
   info["hostname"] = host;
   info["cpu"] = proc_field("/proc/cpuinfo", "model name");
   info["logical_cores"] = std::thread::hardware_concurrency();

@@ -15,10 +15,10 @@ struct Summary {
   double max = 0.0;
 };
 Summary summarize(std::vector<double> samples);
-nlohmann::json to_json(const Summary& s);
+nlohmann::ordered_json to_json(const Summary& s);
 
 /// Host name, CPU model, logical cores, memory, compiler: enough to tell machines apart.
-nlohmann::json machine_info();
+nlohmann::ordered_json machine_info();
 
 /// The 1-, 5- and 15-minute load averages: the records say how busy the machine was.
 std::vector<double> load_average();
