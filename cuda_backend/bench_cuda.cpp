@@ -141,10 +141,13 @@ int main(int argc, char** argv) {
       std::printf("\"prepare_sites_ms\":%.3f,\"hull_ms\":%.3f,\"backend_ms\":%.3f,\"gpu_ms\":%.3f,", t1 - t0, t2 - t1,
                   median(backend_ms), median(gpu_ms));
       if (pipeline) std::printf("\"host_to_host_ms\":%.3f,\"seam_share\":%.6g,", median(h2h_ms), median(seam_share));
-      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,",
+      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,",
                   triangles, deferred, static_cast<unsigned long long>(counters.predicates),
                   static_cast<unsigned long long>(counters.bytes_to_device),
-                  static_cast<unsigned long long>(counters.bytes_to_host));
+                  static_cast<unsigned long long>(counters.bytes_to_host),
+                  static_cast<unsigned long long>(counters.max_cells_per_site),
+                  static_cast<unsigned long long>(counters.sites_over_4096_cells),
+                  static_cast<unsigned long long>(counters.sites_over_budget));
       auto dump = [](const char* key, const std::map<std::string, std::vector<double>>& m, bool comma) {
         std::printf("\"%s\":{", key);
         bool first = true;

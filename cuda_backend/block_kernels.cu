@@ -236,14 +236,14 @@ __global__ void expand_kernel(BlockState s) {
   const GridView g = s.bl.grid(b, s.cell_start, s.points);
   double x0, x1, y0, y1;
   s.bl.region(b, &x0, &x1, &y0, &y1);
-  unsigned predicates = 0;
+  unsigned predicates = 0, cells = 0;
   for (int t = threadIdx.x; t < count; t += blockDim.x) {
     const int2 e = s.current[s.list_offset[b] + t];
     const int ja = e.x, jb = e.y;
     if (set_contains(done, cap, edge_key(ja, jb))) continue;
     const double2 pa = s.points[ja], pb = s.points[jb];
     int status;
-    const int jc = find_apex(g, ja, pa, jb, pb, &status, &predicates);
+    const int jc = find_apex(g, ja, pa, jb, pb, &status, &predicates, &cells, 0xffffffffu);
     if (status != apex_found) {
       atomicAdd(s.counters + 1, 1u);
       continue;

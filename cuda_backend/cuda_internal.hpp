@@ -82,6 +82,9 @@ struct RunCounters {
   std::uint64_t bytes_to_device = 0;
   std::uint64_t bytes_to_host = 0;
   std::uint64_t triangles = 0;
+  std::uint64_t max_cells_per_site = 0;     ///< the longest star's bucket visits (per-site layout)
+  std::uint64_t sites_over_4096_cells = 0;  ///< stars that visited more than 4096 buckets
+  std::uint64_t sites_over_budget = 0;      ///< stars deferred because their search ran away
 };
 RunCounters& last_run_counters();
 

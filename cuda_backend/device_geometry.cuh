@@ -222,7 +222,7 @@ enum ApexStatus : int { apex_found = 0, apex_none = 1, apex_uncertain = 2 };
 /// square covers that box. Candidate ids are indices into g.points.
 /// *predicates counts the orient2d and incircle evaluations (for the benchmark's floor count).
 __device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, double2 b, int* status,
-                                unsigned* predicates) {
+                                unsigned* predicates, unsigned* cells_visited, unsigned cell_budget) {
   const double2 mid = make_double2(0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y);
   const int mx = g.cell_x(mid.x), my = g.cell_y(mid.y);
   int rx0 = 0, rx1 = g.gx - 1, ry0 = 0, ry1 = g.gy - 1;
@@ -235,6 +235,9 @@ __device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, do
       if (failed) return;
       // The region may have shrunk since the ring started.
       if (x < rx0 || x > rx1 || y < ry0 || y > ry1) return;
+      // A search that runs away (an ill-conditioned or far apex) would hold its whole warp;
+      // past the budget the site defers and the seam stage makes its triangles.
+      if (++*cells_visited > cell_budget) { failed = true; return; }
       const int c = y * g.gx + x;
       const std::uint32_t end = g.cell_start[c + 1];
       for (std::uint32_t j = g.cell_start[c]; j < end; ++j) {

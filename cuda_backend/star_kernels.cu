@@ -88,7 +88,8 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
   const double2 s = g.points[i];
   int* row = star + static_cast<std::size_t>(i) * kStar;
   bool ok = true;
-  unsigned predicates = 0;
+  unsigned predicates = 0, cells = 0;
+  constexpr unsigned budget = 1u << 14;
   const int v0 = nearest_site(g, i, s, &ok);
   ok = ok && v0 >= 0;
   int deg = 0, m = 0;
@@ -101,7 +102,7 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
     int v = v0;
     while (ps != v) {
       int status;
-      const int c = find_apex(g, i, s, v, g.points[v], &status, &predicates);
+      const int c = find_apex(g, i, s, v, g.points[v], &status, &predicates, &cells, budget);
       if (status != apex_found) { ok = false; break; }
       if (c == v0) { closed = true; break; }
       if (deg + m >= kStar) { ok = false; break; }
@@ -115,7 +116,7 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
     int v = v0;
     while (pred[v] != i) {
       int status;
-      const int c = find_apex(g, v, g.points[v], i, s, &status, &predicates);
+      const int c = find_apex(g, v, g.points[v], i, s, &status, &predicates, &cells, budget);
       if (status != apex_found || c == v0) { ok = false; break; }
       if (deg + m >= kStar) { ok = false; break; }
       row[kStar - 1 - m] = c;
@@ -126,8 +127,13 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
   // One atomic per warp for the predicate count; the deferred count is rare.
   const unsigned active = __activemask();
   const unsigned warp_total = __reduce_add_sync(active, predicates);
-  if ((threadIdx.x & 31) == __ffs(active) - 1)
+  const unsigned warp_max = __reduce_max_sync(active, cells);
+  if ((threadIdx.x & 31) == __ffs(active) - 1) {
     atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
+    atomicMax(counters + 4, warp_max);
+  }
+  if (cells > 4096) atomicAdd(counters + 5, 1u);
+  if (cells > budget) atomicAdd(counters + 6, 1u);
   if (!ok) {
     info[i] = kDeferredBit;
     owned[i] = 0;
@@ -243,7 +249,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  DeviceArray<unsigned int> d_counters(4, stream);
+  DeviceArray<unsigned int> d_counters(8, stream);
 
   std::size_t sort_bytes = 0, scan_bytes = 0;
   EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
@@ -335,6 +341,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   counters.bytes_to_device = n * sizeof(double2) + d_hull.bytes();
   counters.bytes_to_host = d_triangles.bytes() + d_neighbors.bytes() + 2 * sizeof(int);
   counters.triangles = triangle_count;
+  counters.max_cells_per_site = sizes[5];
+  counters.sites_over_4096_cells = sizes[6];
+  counters.sites_over_budget = sizes[7];
   result.iterations = 1;
   result.device_stages = timer.collect();
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
