@@ -345,15 +345,18 @@ def scaling_section(records, docs, distribution, figure):
                    "GPU-only: the sum of the device-timed stages.\n")
         out.append(table(header, rows))
         fig, ax = plt.subplots(figsize=(7, 4.5))
-        for g in gpu:
+        for index, g in enumerate(gpu):
+            colour = f"C{index}"  # one colour per backend and layout; dashed: over CGAL
             for base, style in (("expanse cpu", "-"), ("cgal", "--")):
                 pts = [(n, median(cells[(n, base)]) / median(cells[(n, g)])) for n in sizes
                        if (n, g) in cells and (n, base) in cells]
                 if pts:
                     ax.plot([p[0] for p in pts], [p[1] for p in pts], style, marker="o",
+                            color=colour,
                             label=f"{g} vs {'sequential' if base == 'expanse cpu' else 'CGAL'}")
         ax.axhline(1.0, color="grey", lw=0.8)
         ax.set_xscale("log", base=2)
+        ax.set_yscale("log")  # speedups below and above 1 span decades
         ax.set_xlabel("points")
         ax.set_ylabel("speedup")
         ax.set_title(f"{figure} — {distribution} — {hostname}", fontsize=9)
@@ -396,23 +399,61 @@ def iterations_section(records, docs):
     return "\n".join(out) if out else NOT_MEASURED
 
 
+def picture_file(r):
+    """The picture a record names, also when its results folder was made on another machine
+    and copied here (the record holds that machine's absolute path)."""
+    if not r.get("picture"):
+        return None
+    for candidate in (Path(r["picture"]), Path(r["_file"]).parent / "pictures" / Path(r["picture"]).name):
+        if candidate.exists():
+            return candidate
+    return None
+
+
 def pictures_section(records, docs):
     runs = latest_runs(records, "pictures")
     out = []
     for hostname, run in runs.items():
-        pictured = [r for r in run if r.get("picture") and Path(r["picture"]).exists()]
+        pictured = [r for r in run if picture_file(r)]
         if not pictured:
             continue
         out.append(f"### {hostname}\n\n{provenance(run)}\n")
         rows = []
         for r in sorted(pictured, key=lambda r: (dist_order((r["distribution"], r["n"])), label(r))):
             name = f"bench-{slug(hostname)}-{Path(r['picture']).name}"
-            shutil.copyfile(r["picture"], docs / name)
+            shutil.copyfile(picture_file(r), docs / name)
             note = r.get("picture_note", "white: GPU front growth; orange: CPU seam stage")
             rows.append([r["distribution"], fmt_n(r["n"]), label(r),
                          f"{100 * r.get('seam_share', 0):.1f}%", note, f"![]({name})"])
         out.append(table(["distribution", "n", "backend", "seam share", "colours", "picture"], rows))
     return "\n".join(out) if out else NOT_MEASURED
+
+
+# The targets issue 5 asks for; each is either backed by records or says it is not measured.
+TARGETS = [
+    ("CUDA on an NVIDIA H100", lambda r: r["backend"] == "cuda" and "H100" in r.get("device", "")),
+    ("Vulkan on an NVIDIA H100", lambda r: r["backend"] == "vulkan" and "H100" in r.get("device", "")),
+    ("Vulkan on lavapipe (llvmpipe)", lambda r: r["backend"] == "vulkan" and "llvmpipe" in r.get("device", "")),
+    ("CPU backend and peers", lambda r: r["backend"] in ("cpu", "cgal", "qhull", "delaunator")),
+]
+
+
+def status_section(records):
+    measured = [r for r in records if not r.get("skipped")]
+    rows = []
+    for name, matches in TARGETS:
+        hits = [r for r in measured if matches(r)]
+        if not hits:
+            rows.append([name, "—", "not measured yet", "—", "—"])
+            continue
+        experiments = sorted({r["experiment"] for r in hits})
+        hosts = sorted({host(r) for r in hits})
+        dates = sorted(r.get("date", "")[:10] for r in hits)
+        commits = sorted({r.get("commit", "unknown") for r in hits})
+        rows.append([name, ", ".join(hosts), ", ".join(experiments),
+                     dates[0] if dates[0] == dates[-1] else f"{dates[0]} – {dates[-1]}",
+                     ", ".join(f"`{c}`" for c in commits)])
+    return table(["target", "machine", "experiments measured", "date", "commit"], rows)
 
 
 def main():
@@ -426,6 +467,7 @@ def main():
     docs.mkdir(parents=True, exist_ok=True)
     records = load(args.results)
     sections = {
+        "STATUS": status_section(records),
         "PEERS": peers_section(records, docs),
         "FIG_IV1": threads_section(records, docs),
         "FIG_IV2": scaling_section(records, docs, "uniform", "Fig. IV.2"),

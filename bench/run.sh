@@ -18,6 +18,7 @@
 #                         device machine); otherwise git is asked at run time
 #   --results DIR         where the JSON lines go (overrides the defaults above)
 #   --note TEXT           stored in every record (say how loaded the machine was)
+#   --max-n N             leave out sizes above N (e.g. 65536 for lavapipe; accepts 256^2, 1e6)
 #   --timeout SECONDS     kill an experiment that runs longer (quick: 45, full: 3000)
 #   --no-report           only measure
 # Each experiment is one expanse-bench invocation, so a device session with a per-command time
@@ -36,6 +37,7 @@ results=""
 note=""
 dists="uniform,gaussian"
 timeout_s=""
+max_n=""
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -51,7 +53,8 @@ while [[ $# -gt 0 ]]; do
     --note) note="$2"; shift ;;
     --no-report) report=0 ;;
     --timeout) timeout_s="$2"; shift ;;
-    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
+    --max-n) max_n="$2"; shift ;;
+    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -115,29 +118,46 @@ run() {  # run EXPERIMENT ARGS...: one expanse-bench invocation appending to EXP
 
 has() { [[ ",$experiments," == *",$1,"* ]]; }
 
+count() {  # count 4096^2 | 1e6 | 1000: the number of points a size stands for
+  local s="$1"
+  if [[ $s == *^* ]]; then echo $(( ${s%^*} ** ${s#*^} ))
+  elif [[ $s == *e* ]]; then echo $(( ${s%e*} * 10 ** ${s#*e} ))
+  else echo "$s"; fi
+}
+
+sizes() {  # sizes LIST: LIST without the sizes above --max-n
+  local kept=() s
+  for s in ${1//,/ }; do
+    if [[ -z "$max_n" ]] || (( $(count "$s") <= $(count "$max_n") )); then kept+=("$s"); fi
+  done
+  local IFS=,
+  echo "${kept[*]}"
+}
+
 if [[ $mode == quick ]]; then
   "$peers" 2e4 || failed+=(peers-selfcheck)
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
-    --dist "$dists" -n 1e3,1e4 --layouts default,paper --warmup 1 -r 3 --max-seconds 2
-  has threads && run threads --backends "$gpu" --dist uniform -n 32^2,64^2 --layouts paper \
+    --dist "$dists" -n "$(sizes 1e3,1e4)" --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+  has threads && run threads --backends "$gpu" --dist uniform -n "$(sizes 32^2,64^2)" --layouts paper \
     --threads 4,8,16,32 --warmup 1 -r 1
   has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
-    -n 32^2,64^2,128^2 --layouts default,paper --warmup 1 -r 3 --max-seconds 2
-  has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n 32^2 \
+    -n "$(sizes 32^2,64^2,128^2)" --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+  has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n "$(sizes 32^2)" \
     --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
 else
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
-    --dist "$dists" -n 1e4,1e5,1e6 --layouts default,paper --warmup 1 -r 5 \
+    --dist "$dists" -n "$(sizes 1e4,1e5,1e6)" --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 60
   # Fig. IV.1: the paper's sizes, threads per block in powers of two around sqrt(n/256).
-  has threads && run threads --backends "$gpu" --dist uniform -n 256^2,512^2,1024^2,2048^2 \
+  has threads && run threads --backends "$gpu" --dist uniform -n "$(sizes 256^2,512^2,1024^2,2048^2)" \
     --layouts paper --threads 8,16,32,64,128,256,512,1024 --warmup 1 -r 3 --max-seconds 20
   # Figs. IV.2/IV.3 and the iteration counts: n = 32^2 ... 4096^2.
   has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
-    -n 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2 --layouts default,paper --warmup 1 -r 5 \
+    -n "$(sizes 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2)" --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 30
-  has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n 32^2 \
-    --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
+  # Only device backends: the CPU backend's picture would be all seam.
+  has pictures && [[ -n "$gpu" ]] && run pictures --backends "$gpu" --dist "$dists" \
+    -n "$(sizes 32^2)" --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
 fi
 
 # Debian's python3-matplotlib lives under /usr/bin/python3; a pyenv or venv python3 earlier on
