@@ -6,6 +6,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -29,6 +30,21 @@ std::string triangle_text(const Triangle& t) {
   return s.str();
 }
 
+// CGAL's filter fails on every predicate whose degree-4 terms under- or overflow, and its exact
+// fallback is slow. Scaling by a power of two changes no predicate's sign; done only when exact.
+double exact_scale(std::span<const Point2> points) {
+  double largest = 0.0;
+  for (const auto& p : points) largest = std::max({largest, std::fabs(p.x), std::fabs(p.y)});
+  if (largest == 0.0) return 1.0;
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  const double factor = std::ldexp(1.0, -exponent);
+  if (factor == 0.0 || std::isinf(factor)) return 1.0;
+  for (const auto& p : points)
+    if ((p.x * factor) / factor != p.x || (p.y * factor) / factor != p.y) return 1.0;
+  return factor;
+}
+
 }  // namespace
 
 OracleResult cgal_delaunay(std::span<const Point2> points) {
@@ -45,13 +61,14 @@ OracleResult cgal_delaunay(std::span<const Point2> points) {
     if (lex_less(points[b], points[a])) return false;
     return a < b;
   });
+  const double factor = exact_scale(points);
   std::vector<std::pair<Kernel::Point_2, std::int32_t>> unique;
   unique.reserve(n);
   for (std::size_t i = 0; i < n;) {
     std::size_t j = i;
     const std::int32_t first = order[i];
     while (j < n && points[order[j]] == points[first]) result.representative[order[j++]] = first;
-    unique.emplace_back(Kernel::Point_2(points[first].x, points[first].y), first);
+    unique.emplace_back(Kernel::Point_2(points[first].x * factor, points[first].y * factor), first);
     i = j;
   }
   result.sites = unique.size();

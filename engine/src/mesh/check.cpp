@@ -83,6 +83,27 @@ struct EdgeIndex {
   }
 };
 
+// The points scaled by a power of two so the largest |coordinate| lies in [0.5, 1), when that
+// is exact for every point (checked by scaling back); else the points unchanged. Predicate
+// signs and the lexicographic order are invariant under such a scaling, and scaled inputs
+// near 1e-100 or 1e100 stay on the predicates' fast filter instead of their big-number path.
+std::vector<Point2> scaled_copy(std::span<const Point2> points) {
+  double largest = 0.0;
+  for (const auto& p : points) largest = std::max({largest, std::fabs(p.x), std::fabs(p.y)});
+  std::vector<Point2> out(points.begin(), points.end());
+  if (largest == 0.0) return out;
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  if (exponent == 0) return out;
+  for (auto& p : out) {
+    const Point2 q{std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent)};
+    if (std::ldexp(q.x, exponent) != p.x || std::ldexp(q.y, exponent) != p.y)
+      return {points.begin(), points.end()};
+    p = q;
+  }
+  return out;
+}
+
 }  // namespace
 
 CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
@@ -139,6 +160,8 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
   }
 
   auto is_site = [&](std::int32_t v) { return v >= 0 && v < N && rep[v] == v; };
+  // Every predicate below reads P; comparisons and duplicates may read either.
+  const std::vector<Point2> P = scaled_copy(points);
 
   // ---- triangles: valid ids, representatives, strictly counter-clockwise -----------------
   std::vector<char> tri_ok(tris.size(), 1);
@@ -166,7 +189,7 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
       continue;
     }
     for (int k = 0; k < 3; ++k) used[tri[k]] = 1;
-    const int o = detail::orient2d(points[tri[0]], points[tri[1]], points[tri[2]]);
+    const int o = detail::orient2d(P[tri[0]], P[tri[1]], P[tri[2]]);
     if (o <= 0) {
       problems.add("triangle ", t, " ", tri_text(tri), o < 0 ? " is clockwise" : " is degenerate (collinear)");
       tri_ok[t] = 0;
@@ -248,7 +271,7 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
                      " and ", tri_text(tris[twin / 3]), " are the same triangle in opposite orientations");
         continue;
       }
-      if (detail::incircle_perturbed(points[a], points[b], points[c], points[d]) >= 0)
+      if (detail::incircle_perturbed(P[a], P[b], P[c], P[d]) >= 0)
         problems.add("edge ", a, "-", b, " is not locally Delaunay: site ", d, " of triangle ", twin / 3,
                      " ", tri_text(tris[twin / 3]), " lies in the (perturbed) circle of triangle ", t, " ",
                      tri_text(tris[t]));
@@ -264,10 +287,10 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
       if (rep[i] == i) distinct.push_back(i);
     bool collinear = true;
     if (distinct.size() >= 3) {
-      const Point2& p = points[distinct[0]];
-      const Point2& q = points[distinct[1]];
+      const Point2& p = P[distinct[0]];
+      const Point2& q = P[distinct[1]];
       for (std::size_t i = 2; i < distinct.size() && collinear; ++i)
-        if (detail::orient2d(p, q, points[distinct[i]]) != 0) {
+        if (detail::orient2d(p, q, P[distinct[i]]) != 0) {
           problems.add("no triangles, but sites ", distinct[0], ", ", distinct[1], ", ", distinct[i],
                        " are not collinear");
           collinear = false;
@@ -323,9 +346,9 @@ CheckReport check_mesh(std::span<const Point2> points, const Mesh& mesh) {
       std::size_t upward_turns = 0;  // times the edge direction enters the upper half circle
       bool any_left_turn = false;
       for (std::size_t i = 0; i < h; ++i) {
-        const Point2& p = points[hull[i]];
-        const Point2& q = points[hull[(i + 1) % h]];
-        const Point2& r = points[hull[(i + 2) % h]];
+        const Point2& p = P[hull[i]];
+        const Point2& q = P[hull[(i + 1) % h]];
+        const Point2& r = P[hull[(i + 2) % h]];
         const int o = detail::orient2d(p, q, r);
         if (o < 0)
           problems.add("hull turns clockwise at site ", hull[(i + 1) % h], " (", hull[i], ", ",
