@@ -344,3 +344,49 @@ TEST_CASE("checker: one million sites in reasonable time", "[checker][.slow]") {
   WARN("check_mesh on 1M sites: " << seconds << " s");
   CHECK(report.ok);
 }
+
+TEST_CASE("oracle: comparison helpers see real differences only", "[oracle]") {
+  const std::vector<Triangle> mesh = {{0, 1, 2}, {2, 1, 3}, {4, 2, 3}};
+  SECTION("order and rotation do not matter") {
+    const std::vector<Triangle> same = {{1, 3, 2}, {3, 4, 2}, {2, 0, 1}};
+    CHECK(compare_triangles(same, mesh).equal);
+  }
+  SECTION("orientation matters") {
+    const std::vector<Triangle> reversed = {{0, 2, 1}, {2, 1, 3}, {4, 2, 3}};
+    const auto c = compare_triangles(reversed, mesh);
+    CHECK_FALSE(c.equal);
+    CHECK(c.message.find("1 missing, 1 extra") != std::string::npos);
+  }
+  SECTION("a repeated triangle is a difference") {
+    auto repeated = mesh;
+    repeated.push_back(mesh[1]);
+    CHECK_FALSE(compare_triangles(repeated, mesh).equal);
+  }
+  SECTION("a missing triangle is a difference") {
+    const std::vector<Triangle> fewer(mesh.begin(), mesh.end() - 1);
+    CHECK_FALSE(compare_triangles(fewer, mesh).equal);
+  }
+  SECTION("hulls compare as cycles, collinear ones as lines in either direction") {
+    const std::vector<std::int32_t> hull = {4, 0, 1, 3};
+    CHECK(compare_hulls(std::vector<std::int32_t>{1, 3, 4, 0}, hull, false).equal);
+    CHECK_FALSE(compare_hulls(std::vector<std::int32_t>{0, 4, 3, 1}, hull, false).equal);  // clockwise
+    CHECK_FALSE(compare_hulls(std::vector<std::int32_t>{4, 0, 1}, hull, false).equal);
+    CHECK(compare_hulls(std::vector<std::int32_t>{3, 1, 0, 4}, hull, true).equal);
+    CHECK_FALSE(compare_hulls(std::vector<std::int32_t>{1, 3, 4, 0}, hull, true).equal);
+  }
+}
+
+TEST_CASE("oracle: duplicates keep their first occurrence, the hull keeps collinear sites", "[oracle]") {
+  // A 3x3 grid listed twice in reverse, so CGAL's spatial sort sees the later copies too.
+  std::vector<Point2> p;
+  for (int i = 8; i >= 0; --i) p.push_back({static_cast<double>(i % 3), static_cast<double>(i / 3)});
+  for (int i = 8; i >= 0; --i) p.push_back({static_cast<double>(i % 3), static_cast<double>(i / 3)});
+  const auto oracle = cgal_delaunay(p);
+  CHECK(oracle.sites == 9);
+  for (std::int32_t i = 0; i < 18; ++i) CHECK(oracle.representative[i] == i % 9);
+  for (const auto& t : oracle.triangles)
+    for (auto v : t) CHECK(v < 9);
+  CHECK(oracle.triangles.size() == 8);
+  // Corners (2,2) (0,2) (0,0) (2,0) are inputs 0, 2, 8, 6; the edge midpoints are on the hull too.
+  CHECK(canonical_hull(oracle.hull) == std::vector<std::int32_t>{0, 1, 2, 5, 8, 7, 6, 3});
+}
