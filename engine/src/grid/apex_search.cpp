@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "predicates/exact_arith.hpp"
 #include "predicates/predicates.hpp"
 
 namespace expanse::detail {
@@ -95,16 +96,32 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
   const double den = 2 * (dx * ey - dy * ex);
   const double den_error = 16 * eps * 2 * (std::fabs(dx * ey) + std::fabs(dy * ex));
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const Region everywhere{-inf, -inf, inf, inf, full_domain};
-  if (!(den - den_error > 0) || !std::isfinite(den)) return everywhere;
-  const double ux = (ey * d2 - dy * e2) / den;
-  const double uy = (dx * e2 - ex * d2) / den;
-  const double ux_error =
-      (16 * eps * (std::fabs(ey) * d2 + std::fabs(dy) * e2) + std::fabs(ux) * den_error) / (den - den_error) +
-      4 * eps * std::fabs(ux);
-  const double uy_error =
-      (16 * eps * (std::fabs(dx) * e2 + std::fabs(ex) * d2) + std::fabs(uy) * den_error) / (den - den_error) +
-      4 * eps * std::fabs(uy);
+  const Region everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
+  double ux, uy, ux_error, uy_error;
+  if (den - den_error > 0 && std::isfinite(den)) {
+    ux = (ey * d2 - dy * e2) / den;
+    uy = (dx * e2 - ex * d2) / den;
+    ux_error = (16 * eps * (std::fabs(ey) * d2 + std::fabs(dy) * e2) + std::fabs(ux) * den_error) / (den - den_error) +
+               4 * eps * std::fabs(ux);
+    uy_error = (16 * eps * (std::fabs(dx) * e2 + std::fabs(ex) * d2) + std::fabs(uy) * den_error) / (den - den_error) +
+               4 * eps * std::fabs(uy);
+  } else {
+    // A nearly flat triangle: the rounded determinant is noise. Evaluate the circumcentre's
+    // numerators and denominator exactly and round once, so near-collinear sites still get a
+    // tight circle instead of a search of the whole domain.
+    using namespace exact;
+    const auto xd = exact_difference(b.x, a.x), yd = exact_difference(b.y, a.y);
+    const auto xe = exact_difference(c.x, a.x), ye = exact_difference(c.y, a.y);
+    const auto det = xd * ye - yd * xe;
+    const auto dd = xd * xd + yd * yd;
+    const auto ee = xe * xe + ye * ye;
+    const double den_exact = 2 * det.approximate();
+    if (!(den_exact > 0) || !std::isfinite(den_exact)) return everywhere;
+    ux = (ye * dd - yd * ee).approximate() / den_exact;
+    uy = (xd * ee - xe * dd).approximate() / den_exact;
+    ux_error = 16 * eps * std::fabs(ux);
+    uy_error = 16 * eps * std::fabs(uy);
+  }
   if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return everywhere;
   const double r = std::sqrt(ux * ux + uy * uy);
   const double r_hi =
@@ -127,7 +144,22 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
   if (on_left(ux, uy + r)) max_y = std::max(max_y, cy + reach_y);
   if (on_left(ux, uy - r)) min_y = std::min(min_y, cy - reach_y);
   return {min_x, min_y, max_x, max_y,
-          {tree_.quantise_x(min_x), tree_.quantise_y(min_y), tree_.quantise_x(max_x), tree_.quantise_y(max_y)}};
+          {tree_.quantise_x(min_x), tree_.quantise_y(min_y), tree_.quantise_x(max_x), tree_.quantise_y(max_y)},
+          cx, cy, std::max(reach_x, reach_y)};
+}
+
+bool ApexSearch::outside_circle(const QuantBox& box, const Region& region) const {
+  // Thin caps over long chords (near-collinear sites) have huge circles whose bounding boxes
+  // prune nothing; the distance from the centre to the box does.
+  if (region.reach < 0) return false;
+  const double q = tree_.quantum();
+  const double x_lo = tree_.real_x(static_cast<double>(box.x0)) - q;
+  const double x_hi = tree_.real_x(static_cast<double>(box.x1) + 1) + q;
+  const double y_lo = tree_.real_y(static_cast<double>(box.y0)) - q;
+  const double y_hi = tree_.real_y(static_cast<double>(box.y1) + 1) + q;
+  const double dx = std::max({x_lo - region.cx, 0.0, region.cx - x_hi});
+  const double dy = std::max({y_lo - region.cy, 0.0, region.cy - y_hi});
+  return dx * dx + dy * dy > region.reach * region.reach * (1 + 1e-9);
 }
 
 std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
@@ -149,7 +181,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   Point2 best_point{};
   QuantBox best_box = full_domain;
   constexpr double inf = std::numeric_limits<double>::infinity();
-  Region region{-inf, -inf, inf, inf, full_domain};
+  Region region{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
   big_buckets_.clear();
 
   // Scans one bucket; the region box is recomputed once per bucket, not per improvement.
@@ -190,6 +222,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
+      if (outside_circle(box, region)) continue;
       if (node.first_child >= 0) {
         if (entirely_right(box, a, b)) continue;
         // Children nearest the midpoint last, so they are popped first.

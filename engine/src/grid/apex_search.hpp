@@ -31,7 +31,10 @@ class ApexSearch {
   struct Region {
     double x0, y0, x1, y1;  // real coordinates (infinite when the circle is unreliable)
     QuantBox quant;         // the same box, quantised
+    double cx, cy, reach;   // the circle, its radius enlarged by every error bound (reach < 0:
+                            // unreliable, no circle test)
   };
+  bool outside_circle(const QuantBox& box, const Region& region) const;
   Region left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
   QuantBox square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const;
   bool entirely_right(const QuantBox& box, const Point2& a, const Point2& b) const;
