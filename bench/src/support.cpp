@@ -12,27 +12,11 @@
 #include <stdexcept>
 #include <thread>
 
-#ifndef EXPANSE_BENCH_SOURCE_DIR
-#define EXPANSE_BENCH_SOURCE_DIR ""
-#endif
-#ifndef EXPANSE_BENCH_CONFIGURE_COMMIT
-#define EXPANSE_BENCH_CONFIGURE_COMMIT "unknown"
-#endif
-
 namespace bench {
-namespace {
 
-std::string run_command(const std::string& command) {
-  std::string output;
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    char buffer[512];
-    std::size_t got = 0;
-    while ((got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, got);
-    if (::pclose(pipe) != 0) return {};
-  }
-  while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
-  return output;
-}
+const char* build_commit();  // generated at build time (bench/cmake/commit.cmake)
+
+namespace {
 
 std::string proc_field(const char* file, const std::string& key) {
   std::ifstream in(file);
@@ -87,17 +71,7 @@ std::vector<double> load_average() {
 
 std::string git_commit() {
   if (const char* forced = std::getenv("EXPANSE_COMMIT"); forced && *forced) return forced;
-  const std::string dir = EXPANSE_BENCH_SOURCE_DIR;
-  if (!dir.empty()) {
-    const std::string git = "git -C '" + dir + "' ";
-    std::string commit = run_command(git + "rev-parse --short=12 HEAD 2>/dev/null");
-    if (!commit.empty()) {
-      if (!run_command(git + "status --porcelain --untracked-files=no 2>/dev/null").empty())
-        commit += "-dirty";
-      return commit;
-    }
-  }
-  return EXPANSE_BENCH_CONFIGURE_COMMIT;
+  return build_commit();
 }
 
 std::string utc_now() {

@@ -23,8 +23,8 @@ nlohmann::ordered_json machine_info();
 /// The 1-, 5- and 15-minute load averages: the records say how busy the machine was.
 std::vector<double> load_average();
 
-/// The commit measured: $EXPANSE_COMMIT if set, else `git rev-parse` in the source tree at run
-/// time (with "-dirty" when tracked files differ), else the commit seen at configure time.
+/// The commit measured: $EXPANSE_COMMIT if set, else the commit the programs were built from
+/// ("-dirty" when tracked files differed from it at build time).
 std::string git_commit();
 
 /// UTC date and time, ISO 8601.
