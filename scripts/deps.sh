@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Expanse needs when run as root; otherwise prints the one
-# apt-get line and fails. Sourced by demo.sh and test.sh.
+# apt-get line and fails. Sourced by demo.sh and test.sh. (Node.js, for the delaunator peer in
+# the benchmarks, is optional: the benchmarks skip that peer without it.)
 packages=(cmake ninja-build g++ pkg-config git
           libgmp-dev libpng-dev libcli11-dev nlohmann-json3-dev
           libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-validationlayers
-          libcgal-dev catch2 libqhull-dev python3 python3-matplotlib nodejs npm)
+          libcgal-dev catch2 libqhull-dev python3 python3-matplotlib)
 
 missing=()
 for p in "${packages[@]}"; do
