@@ -424,7 +424,7 @@ def pictures_section(records, docs):
         for r in sorted(pictured, key=lambda r: (dist_order((r["distribution"], r["n"])), label(r))):
             name = f"bench-{slug(hostname)}-{Path(r['picture']).name}"
             shutil.copyfile(picture_file(r), docs / name)
-            note = r.get("picture_note", "white: GPU front growth; orange: CPU seam stage")
+            note = r.get("picture_note", "unfilled: GPU front growth; filled orange: CPU seam stage")
             rows.append([r["distribution"], fmt_n(r["n"]), label(r),
                          f"{100 * r.get('seam_share', 0):.1f}%", note, f"![]({name})"])
         out.append(table(["distribution", "n", "backend", "seam share", "colours", "picture"], rows))
