@@ -278,8 +278,8 @@ void run_expanse(const RunContext& context, const Config& config, const std::str
                         (distribution + "-" + std::to_string(points.size()) + "-" + backend + "-" +
                          label);
       std::filesystem::create_directories(config.pictures);
+      // PNG only: results are committed, and `expanse triangulate --svg` redraws any of them.
       expanse::write_png(stem.string() + ".png", points, mesh, picture);
-      expanse::write_svg(stem.string() + ".svg", points, mesh, picture);
       record["picture"] = stem.string() + ".png";
     }
     emit(context, std::move(record));
@@ -430,7 +430,7 @@ int main(int argc, char** argv) {
   app.add_flag("!--no-neighbors", config.neighbors, "skip adjacency in Expanse (peers always build it)");
   app.add_option("-o,--out", config.out, "append JSON lines to this file (default: stdout)");
   app.add_option("--note", config.note, "free text stored in every record (e.g. machine load)");
-  app.add_option("--pictures", config.pictures, "also write PNG/SVG pictures into this folder");
+  app.add_option("--pictures", config.pictures, "also write PNG pictures into this folder");
   app.add_option("--delaunator-script", config.delaunator_script, "path of bench/delaunator/run.mjs")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
