@@ -56,10 +56,15 @@ FAMILY_CASE("tiny")
 FAMILY_CASE("huge")
 FAMILY_CASE("tiny_grid")
 FAMILY_CASE("huge_grid")
+FAMILY_CASE("offset_grid")
+FAMILY_CASE("square_boundary")
+FAMILY_CASE("two_lines")
+FAMILY_CASE("cross")
+FAMILY_CASE("mixed_scale")
 
 TEST_CASE("every test family is run", "[family]") {
   // A family added to test_points.cpp without a FAMILY_CASE above would silently go untested.
-  CHECK(test::families().size() == 18);
+  CHECK(test::families().size() == 23);
 }
 
 TEST_CASE("matches CGAL with the paper's layout", "[family][paper]") {

@@ -69,6 +69,17 @@ std::vector<Point2> huge(std::size_t n, std::uint64_t seed);
 std::vector<Point2> tiny_grid(std::size_t n, std::uint64_t seed);
 /// The integer grid times 2^330: exactly cocircular, and every degree-4 term overflows.
 std::vector<Point2> huge_grid(std::size_t n, std::uint64_t seed);
+/// The integer grid offset by 10^15: exact cocircularity where doubles have no bits to spare.
+std::vector<Point2> offset_grid(std::size_t n, std::uint64_t seed);
+/// Integer points on the boundary of a square only: every site is a hull site.
+std::vector<Point2> square_boundary(std::size_t n, std::uint64_t seed);
+/// Integer points on two parallel lines: every quadrilateral between them is cocircular.
+std::vector<Point2> two_lines(std::size_t n, std::uint64_t seed);
+/// Integer points on both axes, symmetric about the origin: cocircular in fours.
+std::vector<Point2> cross(std::size_t n, std::uint64_t seed);
+/// Uniform points in [0, 1e-200)^2 and four corners near 1e200: scaling all of them by one
+/// power of two cannot keep the small ones exact.
+std::vector<Point2> mixed_scale(std::size_t n, std::uint64_t seed);
 }  // namespace points
 
 using Generator = std::vector<Point2> (*)(std::size_t, std::uint64_t);
