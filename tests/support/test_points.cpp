@@ -289,7 +289,7 @@ const std::vector<Family>& families() {
       {"square_boundary", points::square_boundary, 10000},
       {"two_lines", points::two_lines, 10000},
       {"cross", points::cross, 10000},
-      // The engine is correct here but quadratic (n = 1000 took 44 s in Nov 2025): its buckets
+      // The engine is correct here but quadratic (n = 1000 took 44 s on the 2-core VM): its buckets
       // cannot separate sites 400 orders of magnitude below the domain. Raise when fixed.
       {"mixed_scale", points::mixed_scale, 100},
   };
