@@ -137,11 +137,11 @@ sizes() {  # sizes LIST: LIST without the sizes above --max-n
 if [[ $mode == quick ]]; then
   "$peers" 2e4 || failed+=(peers-selfcheck)
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
-    --dist "$dists" -n "$(sizes 1e3,1e4)" --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+    --dist "$dists" -n "$(sizes 1e3,1e4)" --layouts default,paper --warmup 1 -r 3 --max-seconds 1
   has threads && run threads --backends "$gpu" --dist uniform -n "$(sizes 32^2,64^2)" --layouts paper \
     --threads 4,8,16,32 --warmup 1 -r 1
   has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
-    -n "$(sizes 32^2,64^2,128^2)" --layouts default,paper --warmup 1 -r 3 --max-seconds 2
+    -n "$(sizes 32^2,64^2,128^2)" --layouts default,paper --warmup 1 -r 3 --max-seconds 1
   has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n "$(sizes 32^2)" \
     --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
 else
@@ -150,7 +150,7 @@ else
     --max-seconds 60
   # Fig. IV.1: the paper's sizes, threads per block in powers of two around sqrt(n/256).
   has threads && run threads --backends "$gpu" --dist uniform -n "$(sizes 256^2,512^2,1024^2,2048^2)" \
-    --layouts paper --threads 8,16,32,64,128,256,512,1024 --warmup 1 -r 3 --max-seconds 20
+    --layouts paper --threads 8,16,32,64,128,256,512,1024 --warmup 1 -r 3 --max-seconds 10
   # Figs. IV.2/IV.3 and the iteration counts: n = 32^2 ... 4096^2.
   has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
     -n "$(sizes 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2)" --layouts default,paper --warmup 1 -r 5 \
