@@ -233,6 +233,10 @@ void run_expanse(const RunContext& context, const Config& config, const std::str
       skip(context, config, backend, distribution, points.size(),
            std::string(expanse::to_string(e.code())) + ": " + e.what());
       continue;
+    } catch (const std::exception& e) {
+      // Out of memory on a large n, say: record it and go on with the other configurations.
+      skip(context, config, backend, distribution, points.size(), std::string("error: ") + e.what());
+      continue;
     }
 
     const auto& s = mesh.stats;
