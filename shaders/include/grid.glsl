@@ -63,7 +63,22 @@ bool circle_region(Grid g, dvec2 a, dvec2 b, dvec2 c, out ivec4 range, out dvec3
   double lb = length(ba), lc = length(ca);
   range = ivec4(0, 0, g.cells - 1, g.cells - 1);
   circle = dvec3(0.0lf, 0.0lf, -1.0lf);
-  if (!(cross >= 1.0e-4lf * lb * lc)) return false;
+  if (!(cross >= 1.0e-4lf * lb * lc)) {
+    // Too flat to locate the centre. If c sees a-b at an obtuse angle, the region is the minor
+    // segment, and every point x in it sees a-b at an angle >= angle(a c b) > 90 degrees: it lies
+    // in the disc with diameter a-b (Thales), which needs no centre. Hull-hugging flat triangles
+    // of uniform inputs are exactly this case; without it their searches scan the whole grid.
+    precise dvec2 ac = a - c;
+    precise dvec2 bc = b - c;
+    double dot_c = ac.x * bc.x + ac.y * bc.y;
+    if (!(dot_c < -1.0e-6lf * length(ac) * length(bc))) return false;
+    dvec2 mid = 0.5lf * (a + b);
+    double radius_t = 0.5lf * lb * (1.0lf + 1.0e-6lf) + 1.0e-6lf * lb;
+    ivec2 tlo = cell_of(g, mid - dvec2(radius_t)), thi = cell_of(g, mid + dvec2(radius_t));
+    range = ivec4(tlo, thi);
+    circle = dvec3(mid, radius_t);
+    return true;
+  }
   precise double b2 = ba.x * ba.x + ba.y * ba.y;
   precise double c2 = ca.x * ca.x + ca.y * ca.y;
   precise double d = 2.0lf * cross;

@@ -26,13 +26,15 @@ double ms_since(Clock::time_point start) {
 }
 
 struct Registry {
-  std::shared_ptr<Instance> instance;  // declared first: destroyed after the contexts
+  std::shared_ptr<Instance> instance;
   std::map<int, std::shared_ptr<Context>> contexts;
   std::mutex mutex;
 };
 Registry& registry() {
-  static Registry r;
-  return r;
+  // Deliberately never destroyed: at exit, drivers (NVIDIA's) may already have torn down their
+  // own state, and destroying a device then crashes. The OS reclaims everything anyway.
+  static Registry* r = new Registry;
+  return *r;
 }
 
 std::shared_ptr<Instance> shared_instance_locked(Registry& r) {
