@@ -28,6 +28,9 @@ struct Grid {
   int cell_base;    // offset of this grid in cell_start[]
 };
 
+// Absolute slack: eight ulps of 1, the largest site magnitude (SiteSet scales below 1).
+const double ABS_MARGIN = 1.7763568394002505e-15lf;
+
 const int SEARCH_FOUND = 0;
 const int SEARCH_DEFER = 1;    // a predicate could not be decided on the device
 const int SEARCH_NONE = 2;     // no candidate in the grid
@@ -73,7 +76,7 @@ bool circle_region(Grid g, dvec2 a, dvec2 b, dvec2 c, out ivec4 range, out dvec3
     double dot_c = ac.x * bc.x + ac.y * bc.y;
     if (!(dot_c < -1.0e-6lf * length(ac) * length(bc))) return false;
     dvec2 mid = 0.5lf * (a + b);
-    double radius_t = 0.5lf * lb * (1.0lf + 1.0e-6lf) + 1.0e-6lf * lb;
+    double radius_t = 0.5lf * lb * (1.0lf + 1.0e-6lf) + 1.0e-6lf * lb + ABS_MARGIN;
     ivec2 tlo = cell_of(g, mid - dvec2(radius_t)), thi = cell_of(g, mid + dvec2(radius_t));
     range = ivec4(tlo, thi);
     circle = dvec3(mid, radius_t);
@@ -86,7 +89,10 @@ bool circle_region(Grid g, dvec2 a, dvec2 b, dvec2 c, out ivec4 range, out dvec3
   precise double uy = (ba.x * c2 - ca.x * b2) / d;
   dvec2 centre = a + dvec2(ux, uy);
   double radius = sqrt(ux * ux + uy * uy);
-  double margin = 1.0e-6lf * (radius + lb + lc);
+  // Relative margin for the centre's error, plus an absolute one: sites are scaled below 1 in
+  // magnitude, so a computed centre or extreme point is rounded by up to half an ulp of 1,
+  // which is the whole scale of the geometry for inputs like 1e8 + 1e-6 * u.
+  double margin = 1.0e-6lf * (radius + lb + lc) + ABS_MARGIN;
   dvec2 lo = min(a, b), hi = max(a, b);
   // Extreme points of the circle count only if they can be on the left of a->b.
   double tol = 2.0lf * margin * lb;
@@ -243,7 +249,7 @@ int nearest_search(Grid g, int is, out int nearest, out int nearest_slot) {
         nearest_slot = slot;
         best_p = p;
         best_d2 = d2;
-        double reach = sqrt(d2) * (1.0lf + 1.0e-6lf);
+        double reach = sqrt(d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
         range = ivec4(cell_of(g, s - dvec2(reach)), cell_of(g, s + dvec2(reach)));
       }
     })

@@ -168,10 +168,15 @@ class VulkanBackend final : public Backend {
   }
 
   // lavapipe breaks out of every loop after 65535 iterations per SIMD batch (8 lanes); a lane
-  // budget of 1000 keeps the batch under that cap.
-  std::uint32_t loop_budget() const {
-    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1000u
-                                                                                     : 1000000000u;
+  // budget of 1000 keeps the batch under that cap (the shaders also check a canary). On GPUs a
+  // star walk still gets a budget, 20x a typical walk: the kernel lasts as long as its slowest
+  // invocation, and the rare walk that would scan half the grid is cheaper in the seam stage.
+  // EXPANSE_VULKAN_LOOP_BUDGET overrides it (for experiments).
+  std::uint32_t loop_budget(bool star) const {
+    if (const char* env = std::getenv("EXPANSE_VULKAN_LOOP_BUDGET"))
+      return std::uint32_t(std::max(1L, std::atol(env)));
+    if (context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return 1000u;
+    return star ? 20000u : 1000000000u;
   }
 
   std::uint32_t workgroup(std::uint32_t wanted) const {
@@ -218,7 +223,7 @@ class VulkanBackend final : public Backend {
         ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
-    const std::uint32_t spec[] = {wg, 48, loop_budget()};
+    const std::uint32_t spec[] = {wg, 48, loop_budget(true)};
     Kernel& kernel = ctx.kernel("star", spirv::star(), 5, sizeof(GridParams), spec);
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters};
     kernel.bind(bindings);
@@ -387,7 +392,7 @@ class VulkanBackend final : public Backend {
     if (threads == 0)
       threads = std::uint32_t(std::clamp(std::sqrt(double(n) / blocks), 32.0, 1024.0));
     threads = workgroup(threads);
-    const std::uint32_t spec[] = {threads, loop_budget()};
+    const std::uint32_t spec[] = {threads, loop_budget(false)};
     Kernel& kernel = ctx.kernel("blocks", spirv::blocks(), 10, sizeof(GridParams), spec);
     Buffer* bindings[] = {&sites, &ids, &cell_start, &predecessor, &owners,
                           &block_info, &edge_set, &active, &triangles, &counters};
