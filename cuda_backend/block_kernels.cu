@@ -64,6 +64,8 @@ struct Blocks {
     g.cell_w = (x1 - x0) / buckets;
     g.cell_h = (y1 - y0) / buckets;
     g.gx = g.gy = buckets;
+    g.max_x = x1;
+    g.max_y = y1;
     g.cell_start = cell_start + static_cast<std::size_t>(b) * buckets * buckets;
     g.points = points;
     return g;

@@ -65,29 +65,71 @@ __device__ inline int incircle_perturbed(double2 a, double2 b, double2 c, double
   return -1;
 }
 
-/// A uniform grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1]
-/// the sites of cell c (indices into the sorted arrays).
+/// A grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1] the sites
+/// of cell c (indices into the sorted arrays). Two kinds, one interface:
+///  - uniform (xb == nullptr): cell_x is a rounded affine map, monotone;
+///  - quantile (xb, yb set): column j holds exactly the x with xb[j] <= x < xb[j+1] (xb[0] and
+///    xb[gx] are never read), boundaries taken from sample quantiles, so clustered inputs
+///    (kuzmin, gaussian) do not pile thousands of sites into one cell. cell_x is a binary search.
 struct GridView {
   double min_x, min_y;
-  double inv_w, inv_h;    ///< cells per unit length
-  double cell_w, cell_h;  ///< unit lengths per cell (for stopping rules only, with margins)
+  double inv_w, inv_h;    ///< cells per unit length (uniform kind)
+  double cell_w, cell_h;  ///< unit lengths per cell (uniform kind)
   int gx, gy;
   const std::uint32_t* cell_start;
   const double2* points;  ///< sorted by cell
+  const double* xb = nullptr;  ///< quantile kind: gx + 1 column boundaries
+  const double* yb = nullptr;
+  double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
+  __device__ __forceinline__ static int upper_index(const double* bounds, int cells, double v) {
+    // Largest j in [0, cells) with j == 0 or bounds[j] <= v.
+    int lo = 0, hi = cells - 1;
+    while (lo < hi) {
+      const int m = (lo + hi + 1) >> 1;
+      if (__ldg(bounds + m) <= v) lo = m;
+      else hi = m - 1;
+    }
+    return lo;
+  }
   __device__ __forceinline__ int cell_x(double x) const {
+    if (xb) return upper_index(xb, gx, x);
     const double t = ex::mul(ex::sub(x, min_x), inv_w);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gx - 1)) return gx - 1;
     return static_cast<int>(t);
   }
   __device__ __forceinline__ int cell_y(double y) const {
+    if (yb) return upper_index(yb, gy, y);
     const double t = ex::mul(ex::sub(y, min_y), inv_h);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gy - 1)) return gy - 1;
     return static_cast<int>(t);
+  }
+  // Conservative real bounds of a cell: every site bucketed into column x has lo <= p.x <= hi.
+  __device__ __forceinline__ void x_bounds(int x, double* lo, double* hi) const {
+    if (xb) {
+      *lo = x == 0 ? min_x : __ldg(xb + x);
+      *hi = x == gx - 1 ? max_x : __ldg(xb + x + 1);
+      return;
+    }
+    const double l = min_x + x * cell_w, h = min_x + (x + 1) * cell_w;
+    const double slop = 1e-9 * (cell_w + fabs(l) + fabs(h));
+    *lo = x == 0 ? min_x : l - slop;
+    *hi = x == gx - 1 ? max_x : h + slop;
+  }
+  __device__ __forceinline__ void y_bounds(int y, double* lo, double* hi) const {
+    if (yb) {
+      *lo = y == 0 ? min_y : __ldg(yb + y);
+      *hi = y == gy - 1 ? max_y : __ldg(yb + y + 1);
+      return;
+    }
+    const double l = min_y + y * cell_h, h = min_y + (y + 1) * cell_h;
+    const double slop = 1e-9 * (cell_h + fabs(l) + fabs(h));
+    *lo = y == 0 ? min_y : l - slop;
+    *hi = y == gy - 1 ? max_y : h + slop;
   }
 };
 
@@ -110,31 +152,39 @@ __device__ __forceinline__ double dist2(double2 s, double2 p) {
 template <class F>
 __device__ __forceinline__ void for_ring(int cx, int cy, int k, int x0, int x1, int y0, int y1, F&& f) {
   const int ylo = max(cy - k, y0), yhi = min(cy + k, y1);
-  for (int y = ylo; y <= yhi; ++y) {
-    if (y == cy - k || y == cy + k) {
-      const int xlo = max(cx - k, x0), xhi = min(cx + k, x1);
-      for (int x = xlo; x <= xhi; ++x) f(x, y);
-    } else {
-      if (cx - k >= x0 && cx - k <= x1) f(cx - k, y);
-      if (cx + k >= x0 && cx + k <= x1) f(cx + k, y);
+  const bool left = cx - k >= x0 && cx - k <= x1, right = k > 0 && cx + k >= x0 && cx + k <= x1;
+  const int xlo = max(cx - k, x0), xhi = min(cx + k, x1);
+  if (cy - k >= y0 && cy - k <= y1)
+    for (int x = xlo; x <= xhi; ++x) f(x, cy - k);
+  if (left || right)  // only the side columns: no loop over rows when both lie outside
+    for (int y = max(cy - k + 1, y0); y <= min(cy + k - 1, y1); ++y) {
+      if (left) f(cx - k, y);
+      if (right) f(cx + k, y);
     }
-  }
+  if (k > 0 && cy + k >= y0 && cy + k <= y1)
+    for (int x = xlo; x <= xhi; ++x) f(x, cy + k);
 }
 
 /// Exact nearest neighbour of sorted site `self` (ties between exactly equal distances go to
-/// the smaller index). Returns -1 with *ok = false when a comparison cannot be decided.
-__device__ inline int nearest_site(const GridView& g, int self, double2 s, bool* ok) {
+/// the smaller index). Returns -1 with *ok = false when a comparison cannot be decided or the
+/// search spends more than `budget` units of work (cells + sites, counted in *work).
+__device__ inline int nearest_site(const GridView& g, int self, double2 s, bool* ok, unsigned* work = nullptr,
+                                   unsigned budget = 0xffffffffu) {
   const int cx = g.cell_x(s.x), cy = g.cell_y(s.y);
-  const double min_cell = g.cell_w < g.cell_h ? g.cell_w : g.cell_h;
+  unsigned local_work = 0;
+  unsigned* w = work ? work : &local_work;
   int best = -1;
   double best_d = 0.0;
   double2 best_p = s;
   const int kmax = max(g.gx, g.gy);
   for (int k = 0; k <= kmax; ++k) {
     for_ring(cx, cy, k, 0, g.gx - 1, 0, g.gy - 1, [&](int x, int y) {
+      if (!*ok) return;
       const int c = y * g.gx + x;
-      const std::uint32_t end = g.cell_start[c + 1];
-      for (std::uint32_t j = g.cell_start[c]; j < end; ++j) {
+      const std::uint32_t begin = g.cell_start[c], end = g.cell_start[c + 1];
+      *w += 1 + (end - begin);
+      if (*w > budget) { *ok = false; return; }
+      for (std::uint32_t j = begin; j < end; ++j) {
         if (static_cast<int>(j) == self) continue;
         const double2 p = g.points[j];
         const double d = dist2(s, p);
@@ -149,10 +199,9 @@ __device__ inline int nearest_site(const GridView& g, int self, double2 s, bool*
           const int cmp = compare_distance(s, p, best_p);
           if (cmp == kUncertain) {
             *ok = false;
-            take = false;
-          } else {
-            take = cmp < 0 || (cmp == 0 && static_cast<int>(j) < best);
+            return;
           }
+          take = cmp < 0 || (cmp == 0 && static_cast<int>(j) < best);
         }
         if (take) {
           best = static_cast<int>(j);
@@ -162,17 +211,32 @@ __device__ inline int nearest_site(const GridView& g, int self, double2 s, bool*
       }
     });
     if (!*ok) return -1;
-    // Unvisited sites lie at least k whole cells away (less a rounding slop).
-    if (best >= 0 && sqrt(best_d) < k * min_cell * (1.0 - 1e-9)) break;
+    if (cx - k <= 0 && cx + k >= g.gx - 1 && cy - k <= 0 && cy + k >= g.gy - 1) break;  // all visited
+    if (best >= 0) {
+      // Unvisited sites lie outside the visited square of cells: at least `gap` away.
+      double lo, hi, gap = 1e308;
+      if (cx - k > 0) { g.x_bounds(cx - k, &lo, &hi); gap = fmin(gap, s.x - lo); }
+      if (cx + k < g.gx - 1) { g.x_bounds(cx + k, &lo, &hi); gap = fmin(gap, hi - s.x); }
+      if (cy - k > 0) { g.y_bounds(cy - k, &lo, &hi); gap = fmin(gap, s.y - lo); }
+      if (cy + k < g.gy - 1) { g.y_bounds(cy + k, &lo, &hi); gap = fmin(gap, hi - s.y); }
+      if (sqrt(best_d) * (1.0 + 1e-9) < gap * (1.0 - 1e-9)) break;
+    }
   }
   return best;
 }
 
-/// Conservative bounding box of circle(a, b, c) intersected with the closed left half-plane of
-/// a->b, computed in floating point with a proven-generous margin. False when the circumcentre
-/// is too ill-conditioned to bound (nearly collinear a, b, c): then the caller searches on.
-__device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, double* x_hi,
-                               double* y_lo, double* y_hi) {
+/// circle(a, b, c) ∩ closed left half-plane of a->b, conservatively: a box, and a disc
+/// (centre, reach) holding the circle. Floating point with a proven-generous margin; for a nearly
+/// flat triangle (rounded determinant within its error bound) the circumcentre's numerators and
+/// denominator are evaluated exactly with expansions and rounded once (as the host's
+/// apex_search.cpp does), so near-collinear sites still get a tight region instead of "search
+/// everything". False only if even that cannot be bounded (overflow, degenerate).
+struct CircleRegion {
+  double x_lo, x_hi, y_lo, y_hi;
+  double ox, oy, reach;
+};
+
+__device__ inline bool circle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
   constexpr double eps = ex::epsilon;
   const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
   const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
@@ -180,18 +244,36 @@ __device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, do
   const double d = t1 - t2;
   const double ad = fabs(d);
   const double ed = 16.0 * eps * (fabs(t1) + fabs(t2));
-  if (!(ad > 4.0 * ed) || !(ad > 1e-280)) return false;
-  const double nx = cy * bb - by * cc, ny = bx * cc - cx * bb;
-  const double enx = 16.0 * eps * (fabs(cy) * bb + fabs(by) * cc);
-  const double eny = 16.0 * eps * (fabs(bx) * cc + fabs(cx) * bb);
-  const double ux = nx / (2.0 * d), uy = ny / (2.0 * d);
-  // |d_true| >= 0.75 |d|: the quotient's error is at most (e_n + 2|u| e_d) / (1.5 |d|).
-  const double eux = (enx + 2.0 * fabs(ux) * ed) / (1.5 * ad) + 4.0 * eps * fabs(ux);
-  const double euy = (eny + 2.0 * fabs(uy) * ed) / (1.5 * ad) + 4.0 * eps * fabs(uy);
+  double ux, uy, eux, euy;
+  if (ad > 4.0 * ed && ad > 1e-280) {
+    const double nx = cy * bb - by * cc, ny = bx * cc - cx * bb;
+    const double enx = 16.0 * eps * (fabs(cy) * bb + fabs(by) * cc);
+    const double eny = 16.0 * eps * (fabs(bx) * cc + fabs(cx) * bb);
+    ux = nx / (2.0 * d);
+    uy = ny / (2.0 * d);
+    // |d_true| >= 0.75 |d|: the quotient's error is at most (e_n + 2|u| e_d) / (1.5 |d|).
+    eux = (enx + 2.0 * fabs(ux) * ed) / (1.5 * ad) + 4.0 * eps * fabs(ux);
+    euy = (eny + 2.0 * fabs(uy) * ed) / (1.5 * ad) + 4.0 * eps * fabs(uy);
+  } else {
+    if (!(safe_point(a) && safe_point(b) && safe_point(c))) return false;
+    const auto xd = ex::exact_difference(b.x, a.x), yd = ex::exact_difference(b.y, a.y);
+    const auto xe = ex::exact_difference(c.x, a.x), ye = ex::exact_difference(c.y, a.y);
+    const auto det = xd * ye - yd * xe;
+    const double den = 2.0 * det.approximate();
+    if (!(fabs(den) > 1e-280) || !isfinite(den)) return false;
+    const auto dd = xd * xd + yd * yd;
+    const auto ee = xe * xe + ye * ye;
+    ux = (ye * dd - yd * ee).approximate() / den;
+    uy = (xd * ee - xe * dd).approximate() / den;
+    eux = 16.0 * eps * fabs(ux);
+    euy = 16.0 * eps * fabs(uy);
+  }
+  if (!isfinite(ux) || !isfinite(uy) || !isfinite(eux + euy)) return false;
   const double ox = a.x + ux, oy = a.y + uy;
   const double r = sqrt(ux * ux + uy * uy);
   const double m = 2.0 * (eux + euy) + 8.0 * eps * (fabs(a.x) + fabs(a.y) + r) + 1e-300;
   const double rr = r + 2.0 * m;
+  if (!isfinite(rr)) return false;
   double xl = fmin(a.x, b.x), xh = fmax(a.x, b.x), yl = fmin(a.y, b.y), yh = fmax(a.y, b.y);
   const double ex_x[4] = {ox + rr, ox - rr, ox, ox};
   const double ex_y[4] = {oy, oy, oy + rr, oy - rr};
@@ -207,10 +289,25 @@ __device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, do
       yh = fmax(yh, ex_y[i]);
     }
   }
-  *x_lo = xl - m;
-  *x_hi = xh + m;
-  *y_lo = yl - m;
-  *y_hi = yh + m;
+  out->x_lo = xl - m;
+  out->x_hi = xh + m;
+  out->y_lo = yl - m;
+  out->y_hi = yh + m;
+  out->ox = ox;
+  out->oy = oy;
+  out->reach = (rr + m) * (1.0 + 1e-12);
+  return true;
+}
+
+/// The box part of circle_region (the block layout's acceptance test).
+__device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, double* x_hi,
+                               double* y_lo, double* y_hi) {
+  CircleRegion r;
+  if (!circle_region(a, b, c, &r)) return false;
+  *x_lo = r.x_lo;
+  *x_hi = r.x_hi;
+  *y_lo = r.y_lo;
+  *y_hi = r.y_hi;
   return true;
 }
 
@@ -218,29 +315,50 @@ enum ApexStatus : int { apex_found = 0, apex_none = 1, apex_uncertain = 2 };
 
 /// apex(a->b) over the grid's sites: the site c strictly left of a->b whose circle(a, b, c)
 /// holds no other site under CGAL's perturbation. Rings of cells around the edge's midpoint,
-/// pruned to the cells that meet the current candidate's cap box; stops once the visited
-/// square covers that box. Candidate ids are indices into g.points.
-/// *predicates counts the orient2d and incircle evaluations (for the benchmark's floor count).
+/// clipped to the cell range of the current candidate's region box; a cell is skipped when it
+/// lies entirely right of a->b or outside the candidate's circle (a better candidate only
+/// shrinks circle ∩ left half-plane, so pruning is safe for good). Stops once the visited square
+/// covers the region box. Candidate ids are indices into g.points.
+/// *predicates counts the orient2d and incircle evaluations (for the benchmark's floor count);
+/// *work counts cells + sites visited; past `budget` the search gives up (apex_uncertain).
 __device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, double2 b, int* status,
-                                unsigned* predicates, unsigned* cells_visited, unsigned cell_budget) {
+                                unsigned* predicates, unsigned* work, unsigned budget) {
   const double2 mid = make_double2(0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y);
   const int mx = g.cell_x(mid.x), my = g.cell_y(mid.y);
   int rx0 = 0, rx1 = g.gx - 1, ry0 = 0, ry1 = g.gy - 1;
   int best = -1;
   double2 bp = a;
-  bool failed = false;
+  bool failed = false, has_circle = false;
+  CircleRegion region{};
+  const double ex_ = b.x - a.x, ey_ = b.y - a.y;
   const int kmax = max(g.gx, g.gy);
   for (int k = 0; k <= kmax; ++k) {
     for_ring(mx, my, k, rx0, rx1, ry0, ry1, [&](int x, int y) {
       if (failed) return;
       // The region may have shrunk since the ring started.
       if (x < rx0 || x > rx1 || y < ry0 || y > ry1) return;
-      // A search that runs away (an ill-conditioned or far apex) would hold its whole warp;
-      // past the budget the site defers and the seam stage makes its triangles.
-      if (++*cells_visited > cell_budget) { failed = true; return; }
+      if (k > 0) {
+        double xl, xh, yl, yh;
+        g.x_bounds(x, &xl, &xh);
+        g.y_bounds(y, &yl, &yh);
+        // Entirely right of a->b: the largest cross product over the cell is at one corner.
+        const double px = (ey_ < 0 ? xh : xl) - a.x, py = (ex_ > 0 ? yh : yl) - a.y;
+        const double cross = ex_ * py - ey_ * px;
+        if (cross < -1e-9 * (fabs(ex_) + fabs(ey_)) * (fabs(px) + fabs(py))) return;
+        if (has_circle) {
+          const double dx = fmax(fmax(xl - region.ox, 0.0), region.ox - xh);
+          const double dy = fmax(fmax(yl - region.oy, 0.0), region.oy - yh);
+          if (dx * dx + dy * dy > region.reach * region.reach * (1.0 + 1e-9)) return;
+        }
+      }
       const int c = y * g.gx + x;
-      const std::uint32_t end = g.cell_start[c + 1];
-      for (std::uint32_t j = g.cell_start[c]; j < end; ++j) {
+      const std::uint32_t begin = g.cell_start[c], end = g.cell_start[c + 1];
+      // A search that runs away would hold its whole warp; past the budget the site defers and
+      // the seam stage makes its triangles.
+      *work += 1 + (end - begin);
+      if (*work > budget) { failed = true; return; }
+      bool improved = false;
+      for (std::uint32_t j = begin; j < end; ++j) {
         const int id = static_cast<int>(j);
         if (id == ia || id == ib) continue;
         const double2 p = g.points[j];
@@ -256,14 +374,18 @@ __device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, do
         }
         best = id;
         bp = p;
-        double xl, xh, yl, yh;
-        if (cap_box(a, b, bp, &xl, &xh, &yl, &yh)) {
-          rx0 = g.cell_x(xl);
-          rx1 = g.cell_x(xh);
-          ry0 = g.cell_y(yl);
-          ry1 = g.cell_y(yh);
-        } else {
-          rx0 = 0, rx1 = g.gx - 1, ry0 = 0, ry1 = g.gy - 1;
+        improved = true;
+      }
+      if (improved) {
+        CircleRegion r;
+        // If even the exact circumcentre cannot bound it, the previous region (a superset) stays.
+        if (circle_region(a, b, bp, &r)) {
+          region = r;
+          has_circle = true;
+          rx0 = max(rx0, g.cell_x(r.x_lo));
+          rx1 = min(rx1, g.cell_x(r.x_hi));
+          ry0 = max(ry0, g.cell_y(r.y_lo));
+          ry1 = min(ry1, g.cell_y(r.y_hi));
         }
       }
     });

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "cuda_internal.hpp"
@@ -80,17 +81,46 @@ __global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank,
   pred[rank[hull[t]]] = rank[hull[t == 0 ? h - 1 : t - 1]];
 }
 
+/// Quantile grid: a pseudo-random sample of the coordinates (a hashed index, so that ordered
+/// inputs such as row-major grids do not alias).
+__global__ void sample_kernel(const double2* points, int n, int samples, double* xs, double* ys) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= samples) return;
+  int j = i;
+  if (samples < n) {
+    std::uint64_t z = static_cast<std::uint64_t>(i) + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    j = static_cast<int>(z % static_cast<std::uint64_t>(n));
+  }
+  const double2 p = points[j];
+  xs[i] = p.x;
+  ys[i] = p.y;
+}
+
+/// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1.
+__global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j > cells) return;
+  if (j == 0 || j == cells) {
+    bounds[j] = 0.0;  // never read
+    return;
+  }
+  const long long k = static_cast<long long>(j) * samples / cells;
+  bounds[j] = sorted[k < samples ? k : samples - 1];
+}
+
 __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, int n, int* star,
                                                    std::uint32_t* info, int* owned,
-                                                   unsigned int* counters) {
+                                                   unsigned int* counters, unsigned budget) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const double2 s = g.points[i];
   int* row = star + static_cast<std::size_t>(i) * kStar;
   bool ok = true;
-  unsigned predicates = 0, cells = 0;
-  constexpr unsigned budget = 1u << 14;
-  const int v0 = nearest_site(g, i, s, &ok);
+  unsigned predicates = 0, cells = 0;  // cells: work units (cells + sites visited)
+  const int v0 = nearest_site(g, i, s, &ok, &cells, budget);
   ok = ok && v0 >= 0;
   int deg = 0, m = 0;
   bool closed = false;
@@ -133,7 +163,7 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
     atomicMax(counters + 4, warp_max);
   }
   if (cells > 4096) atomicAdd(counters + 5, 1u);
-  if (cells > budget) atomicAdd(counters + 6, 1u);
+  if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
   if (!ok) {
     info[i] = kDeferredBit;
     owned[i] = 0;
@@ -251,12 +281,27 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   DeviceArray<unsigned int> d_counters(8, stream);
 
+  // Grid kind: quantile boundaries (default; robust to clustering) or uniform cells.
+  // EXPANSE_CUDA_GRID=uniform selects the old grid (for comparisons); EXPANSE_CUDA_BUDGET sets the
+  // per-site work budget (cells + sites visited) past which a site defers to the seam stage.
+  const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
+  const bool quantile = !(grid_env && std::strcmp(grid_env, "uniform") == 0) && n >= 64;
+  const char* budget_env = std::getenv("EXPANSE_CUDA_BUDGET");
+  const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10)) : (1u << 14);
+  const int samples = static_cast<int>(std::min<std::size_t>(n, std::size_t{1} << 18));
+  DeviceArray<double> d_xb(quantile ? shape.gx + 1 : 0, stream), d_yb(quantile ? shape.gy + 1 : 0, stream);
+  DeviceArray<double> d_sx(quantile ? samples : 0, stream), d_sy(quantile ? samples : 0, stream);
+  DeviceArray<double> d_sx2(quantile ? samples : 0, stream), d_sy2(quantile ? samples : 0, stream);
+
   std::size_t sort_bytes = 0, scan_bytes = 0;
   EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
                                                d_sorted_ids.get(), static_cast<int>(n), 0, key_bits, stream));
   EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(nullptr, scan_bytes, d_owned.get(), d_offset.get() + 1,
                                              static_cast<int>(n), stream));
-  DeviceArray<unsigned char> d_temp(std::max(sort_bytes, scan_bytes), stream);
+  std::size_t qsort_bytes = 0;
+  if (quantile)
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, qsort_bytes, d_sx.get(), d_sx2.get(), samples, 0, 64, stream));
+  DeviceArray<unsigned char> d_temp(std::max({sort_bytes, scan_bytes, qsort_bytes}), stream);
 
   GridView g{};
   g.min_x = shape.min_x;
@@ -267,8 +312,24 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   g.cell_h = shape.cell_h;
   g.gx = shape.gx;
   g.gy = shape.gy;
+  g.max_x = input.sites.bounds.max_x;
+  g.max_y = input.sites.bounds.max_y;
 
   timer.begin("bucket");
+  if (quantile) {
+    sample_kernel<<<blocks_for(samples), kThreads, 0, stream>>>(d_points.get(), static_cast<int>(n), samples,
+                                                               d_sx.get(), d_sy.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    std::size_t tb = d_temp.bytes();
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_temp.get(), tb, d_sx.get(), d_sx2.get(), samples, 0, 64, stream));
+    tb = d_temp.bytes();
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_temp.get(), tb, d_sy.get(), d_sy2.get(), samples, 0, 64, stream));
+    quantile_kernel<<<blocks_for(shape.gx + 1), kThreads, 0, stream>>>(d_sx2.get(), samples, shape.gx, d_xb.get());
+    quantile_kernel<<<blocks_for(shape.gy + 1), kThreads, 0, stream>>>(d_sy2.get(), samples, shape.gy, d_yb.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    g.xb = d_xb.get();
+    g.yb = d_yb.get();
+  }
   cell_keys_kernel<<<blocks_for(n), kThreads, 0, stream>>>(g, d_points.get(), static_cast<int>(n), d_keys.get(), d_ids.get());
   EXPANSE_CUDA(cudaGetLastError());
   std::size_t temp_bytes = d_temp.bytes();
@@ -294,7 +355,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   g.points = d_sorted.get();
   timer.begin("stars");
   star_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(g, d_pred.get(), static_cast<int>(n), d_star.get(),
-                                                      d_info.get(), d_owned.get(), d_counters.get());
+                                                      d_info.get(), d_owned.get(), d_counters.get(), budget);
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
@@ -305,9 +366,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   timer.end();
 
   // The one synchronisation before the output: its size.
-  unsigned int sizes[5] = {0, 0, 0, 0, 0};  // triangles, then the 4 counter words
+  // triangles, then counter words 0..6: [0] deferred, [2..3] predicates (u64), [4] max work per
+  // site, [5] sites over 4096 work units, [6] sites deferred by the work budget.
+  unsigned int sizes[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   EXPANSE_CUDA(cudaMemcpyAsync(&sizes[0], d_offset.get() + n, sizeof(int), cudaMemcpyDeviceToHost, stream));
-  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[1], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[1], d_counters.get(), 7 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
   EXPANSE_CUDA(cudaStreamSynchronize(stream));
   const std::size_t triangle_count = sizes[0];
   const bool with_neighbors = true;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "cuda_internal.hpp"
 #include "expanse/check.hpp"
 #include "expanse/cuda_interop.hpp"
 #include "expanse/error.hpp"
@@ -193,6 +194,49 @@ int main(int argc, char** argv) {
     grow_case(*backend, "kuzmin", generate_points("kuzmin", 200000, 4), layout, false, false);
   }
 
+  // Both bucket grids (quantile is the default) give valid stars.
+  setenv("EXPANSE_CUDA_GRID", "uniform", 1);
+  grow_case(*backend, "uniform grid: uniform", generate_points("uniform", 300, 1), per_site, true, false);
+  grow_case(*backend, "uniform grid: grid", square_grid(24), per_site, true, true);
+  if (!small) grow_case(*backend, "uniform grid: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+  unsetenv("EXPANSE_CUDA_GRID");
+
+  // The work budget defers runaway sites, and its counters read back (they once read garbage).
+  {
+    const std::string test = "work budget 40, uniform n=20000";
+    setenv("EXPANSE_CUDA_BUDGET", "40", 1);
+    try {
+      SiteSet sites = prepare_sites(generate_points("uniform", 20000, 11));
+      Hull hull = convex_hull(sites);
+      GrowResult r = backend->grow(GrowInput{sites, hull, per_site});
+      const auto& c = detail::cuda::last_run_counters();
+      const int before = failures;
+      check_partial(test, sites, hull, r.partial, false, false);
+      if (c.sites_over_budget == 0 || c.sites_over_budget > r.partial.deferred_expansions)
+        fail(test, "sites_over_budget " + std::to_string(c.sites_over_budget) + " vs deferred " +
+                       std::to_string(r.partial.deferred_expansions));
+      if (c.max_cells_per_site == 0 || c.max_cells_per_site > 40 + 1 + 20000)
+        fail(test, "max work per site " + std::to_string(c.max_cells_per_site));
+      if (failures == before)
+        std::printf("ok   %s: %zu deferred, %llu over budget, max work %llu\n", test.c_str(),
+                    r.partial.deferred_expansions, static_cast<unsigned long long>(c.sites_over_budget),
+                    static_cast<unsigned long long>(c.max_cells_per_site));
+    } catch (const Error& e) {
+      fail(test, std::string("threw ") + e.what());
+    }
+    unsetenv("EXPANSE_CUDA_BUDGET");
+    SiteSet sites = prepare_sites(generate_points("uniform", 20000, 11));
+    Hull hull = convex_hull(sites);
+    backend->grow(GrowInput{sites, hull, per_site});
+    const auto& c = detail::cuda::last_run_counters();
+    if (c.sites_over_budget != 0 || c.max_cells_per_site == 0 || c.max_cells_per_site > 4096)
+      fail("work counters, uniform n=20000", "over budget " + std::to_string(c.sites_over_budget) + ", max work " +
+                                                 std::to_string(c.max_cells_per_site));
+    else
+      std::printf("ok   work counters, uniform n=20000: max work per site %llu\n",
+                  static_cast<unsigned long long>(c.max_cells_per_site));
+  }
+
   if (!small) {
     Options options;
     options.backend = BackendKind::cuda;
@@ -207,7 +251,7 @@ int main(int argc, char** argv) {
       double* d_xy = nullptr;
       cudaMalloc(reinterpret_cast<void**>(&d_xy), points.size() * sizeof(Point2));
       cudaMemcpy(d_xy, points.data(), points.size() * sizeof(Point2), cudaMemcpyHostToDevice);
-      Mesh mesh = cuda::triangulate_device(d_xy, points.size(), stream);
+      Mesh mesh = expanse::cuda::triangulate_device(d_xy, points.size(), stream);
       cudaFree(d_xy);
       cudaStreamDestroy(stream);
       CheckReport report = check_mesh(points, mesh);
