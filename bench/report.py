@@ -157,6 +157,10 @@ def provenance(run):
     skipped = sorted({f"{r['backend']} ({r.get('reason', '')})" for r in run if r.get("skipped")})
     if skipped:
         text += " Skipped: " + "; ".join(skipped) + "."
+    disagree = sorted({f"{label(r)} at {r['distribution']} n={r['n']}" for r in measured
+                       if r.get("triangles_agree") is False})
+    text += (" **Triangle counts disagree:** " + "; ".join(disagree) + "." if disagree
+             else " Every implementation made the same number of triangles on the same points.")
     return text
 
 
