@@ -1,4 +1,5 @@
 // expanse_vulkan_bench N [uniform|gaussian] [per-site|paper|cpu] [repeats]
+//                      [blocks_per_side] [threads_per_block] [buckets_per_block_side]
 // One JSON object per run on stdout: sizes, backend/device, total and per-stage times, GPU vs
 // seam triangles, deferred expansions, iterations. The first run also pays device start-up and
 // pipeline compilation, so repeats > 1 reports the later runs.
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
   Options options;
   options.backend = layout == "cpu" ? BackendKind::cpu : BackendKind::vulkan;
   if (layout == "paper") options.layout = Layout::paper();
+  if (argc > 5) options.layout.blocks_per_side = std::atoi(argv[5]);
+  if (argc > 6) options.layout.threads_per_block = std::atoi(argv[6]);
+  if (argc > 7) options.layout.buckets_per_block_side = std::atoi(argv[7]);
   options.neighbors = false;
   for (int run = 0; run < repeats; ++run) {
     try {
@@ -35,11 +39,13 @@ int main(int argc, char** argv) {
       const double wall =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       const Stats& s = mesh.stats;
-      std::printf("{\"n\": %zu, \"distribution\": \"%s\", \"layout\": \"%s\", \"run\": %d, "
+      std::printf("{\"n\": %zu, \"distribution\": \"%s\", \"layout\": \"%s\", \"blocks\": %d, \"threads\": %d, \"buckets\": %d, \"run\": %d, "
                   "\"backend\": \"%s\", \"device\": \"%s\", \"wall_ms\": %.3f, \"total_ms\": %.3f, "
                   "\"triangles\": %zu, \"gpu_triangles\": %zu, \"seam_triangles\": %zu, "
                   "\"seam_share\": %.6f, \"deferred\": %zu, \"iterations\": %zu, \"stages\": {",
-                  n, dist.c_str(), layout.c_str(), run, s.backend.c_str(), s.device.c_str(), wall,
+                  n, dist.c_str(), layout.c_str(), options.layout.blocks_per_side,
+                  options.layout.threads_per_block, options.layout.buckets_per_block_side, run,
+                  s.backend.c_str(), s.device.c_str(), wall,
                   s.total_ms, s.triangles, s.gpu_triangles, s.seam_triangles,
                   s.triangles ? double(s.seam_triangles) / double(s.triangles) : 0.0,
                   s.deferred_expansions, s.iterations);
