@@ -1,5 +1,6 @@
 #include "seam/seam_completion.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "expanse/error.hpp"
@@ -101,18 +102,30 @@ class FrontGrowth {
 }  // namespace
 
 std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Triangle>& triangles) {
+  // Each directed edge x->y is filed under x (compressed rows, no hashing: a device can hand over
+  // millions of triangles); its twin y->x is then among the few edges filed under y.
   std::vector<std::array<std::int32_t, 3>> neighbors(triangles.size(), {no_neighbor, no_neighbor, no_neighbor});
-  EdgeMap edges(triangles.size() * 3);
+  std::int32_t vertices = 0;
+  for (const Triangle& t : triangles) vertices = std::max({vertices, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::int32_t> start(static_cast<std::size_t>(vertices) + 1, 0);
+  for (const Triangle& t : triangles) {
+    for (std::int32_t v : t) ++start[v + 1];
+  }
+  for (std::size_t v = 0; v < static_cast<std::size_t>(vertices); ++v) start[v + 1] += start[v];
+  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+  std::vector<std::int32_t> edges(3 * triangles.size());  // triangle * 3 + slot of the edge
   for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      edges.insert(EdgeMap::key(triangles[t][(k + 1) % 3], triangles[t][(k + 2) % 3]),
-                   pack(static_cast<std::int32_t>(t), k));
-    }
+    for (int k = 0; k < 3; ++k) edges[fill[triangles[t][(k + 1) % 3]]++] = static_cast<std::int32_t>(3 * t + k);
   }
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      if (const std::int64_t* twin = edges.find(EdgeMap::key(triangles[t][(k + 2) % 3], triangles[t][(k + 1) % 3]))) {
-        neighbors[t][k] = triangle_of(*twin);
+      const std::int32_t x = triangles[t][(k + 1) % 3], y = triangles[t][(k + 2) % 3];
+      for (std::int32_t e = start[y]; e < start[y + 1]; ++e) {
+        const std::int32_t u = edges[e] / 3, j = edges[e] % 3;
+        if (triangles[u][(j + 2) % 3] == x) {
+          neighbors[t][k] = u;
+          break;
+        }
       }
     }
   }
