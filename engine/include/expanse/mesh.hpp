@@ -34,7 +34,8 @@ struct Stats {
 
 struct Mesh {
   /// Counter-clockwise triangles; vertex ids index the caller's input array. A group of equal
-  /// input points is represented by its first occurrence.
+  /// input points is represented by its first occurrence. The first stats.gpu_triangles were
+  /// made by the backend's front growth, the remaining stats.seam_triangles by the CPU seam stage.
   std::vector<Triangle> triangles;
   /// neighbors[t][k]: the triangle across the edge opposite triangles[t][k], or no_neighbor.
   /// Empty when Options::neighbors is false.
