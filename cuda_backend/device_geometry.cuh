@@ -227,10 +227,10 @@ __device__ inline int nearest_site(const GridView& g, int self, double2 s, bool*
 
 /// circle(a, b, c) ∩ closed left half-plane of a->b, conservatively: a box, and a disc
 /// (centre, reach) holding the circle. Floating point with a proven-generous margin; for a nearly
-/// flat triangle (rounded determinant within its error bound) the circumcentre's numerators and
-/// denominator are evaluated exactly with expansions and rounded once (as the host's
-/// apex_search.cpp does), so near-collinear sites still get a tight region instead of "search
-/// everything". False only if even that cannot be bounded (overflow, degenerate).
+/// flat triangle (rounded determinant within its error bound) the determinant is evaluated
+/// exactly and rounded once (cf. the host's apex_search.cpp), so near-collinear sites still get
+/// a tight region instead of "search everything". False if even that cannot be bounded; the
+/// caller then keeps the previous (larger) region.
 struct CircleRegion {
   double x_lo, x_hi, y_lo, y_hi;
   double ox, oy, reach;
@@ -241,33 +241,37 @@ __device__ inline bool circle_region(double2 a, double2 b, double2 c, CircleRegi
   const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
   const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
   const double t1 = bx * cy, t2 = by * cx;
-  const double d = t1 - t2;
-  const double ad = fabs(d);
-  const double ed = 16.0 * eps * (fabs(t1) + fabs(t2));
-  double ux, uy, eux, euy;
-  if (ad > 4.0 * ed && ad > 1e-280) {
-    const double nx = cy * bb - by * cc, ny = bx * cc - cx * bb;
-    const double enx = 16.0 * eps * (fabs(cy) * bb + fabs(by) * cc);
-    const double eny = 16.0 * eps * (fabs(bx) * cc + fabs(cx) * bb);
-    ux = nx / (2.0 * d);
-    uy = ny / (2.0 * d);
-    // |d_true| >= 0.75 |d|: the quotient's error is at most (e_n + 2|u| e_d) / (1.5 |d|).
-    eux = (enx + 2.0 * fabs(ux) * ed) / (1.5 * ad) + 4.0 * eps * fabs(ux);
-    euy = (eny + 2.0 * fabs(uy) * ed) / (1.5 * ad) + 4.0 * eps * fabs(uy);
-  } else {
+  double d = t1 - t2;
+  double ed = 16.0 * eps * (fabs(t1) + fabs(t2));
+  if (!(fabs(d) > 4.0 * ed)) {
+    // Nearly flat: the rounded determinant is noise. When the coordinate differences are exact
+    // (always, for sites closer than their magnitude), evaluate it exactly as a sum of
+    // error-free products and round once: a few doubles, where full expansions of the
+    // numerators would cost kilobytes of stack per GPU thread. The numerators need no such
+    // care: their rounding error stays a few ulps of the radius.
     if (!(safe_point(a) && safe_point(b) && safe_point(c))) return false;
-    const auto xd = ex::exact_difference(b.x, a.x), yd = ex::exact_difference(b.y, a.y);
-    const auto xe = ex::exact_difference(c.x, a.x), ye = ex::exact_difference(c.y, a.y);
-    const auto det = xd * ye - yd * xe;
-    const double den = 2.0 * det.approximate();
-    if (!(fabs(den) > 1e-280) || !isfinite(den)) return false;
-    const auto dd = xd * xd + yd * yd;
-    const auto ee = xe * xe + ye * ye;
-    ux = (ye * dd - yd * ee).approximate() / den;
-    uy = (xd * ee - xe * dd).approximate() / den;
-    eux = 16.0 * eps * fabs(ux);
-    euy = 16.0 * eps * fabs(uy);
+    double e1, e2, e3, e4;
+    ex::two_diff(b.x, a.x, e1);
+    ex::two_diff(b.y, a.y, e2);
+    ex::two_diff(c.x, a.x, e3);
+    ex::two_diff(c.y, a.y, e4);
+    if (e1 != 0.0 || e2 != 0.0 || e3 != 0.0 || e4 != 0.0) return false;
+    double l1, l2, l0;
+    const double h1 = ex::two_product(bx, cy, l1), h2 = ex::two_product(by, cx, l2);
+    const double dh = ex::two_diff(h1, h2, l0);
+    const double rest = ex::add(l0, ex::sub(l1, l2));
+    d = ex::add(dh, rest);
+    ed = 4.0 * eps * (fabs(l0) + fabs(l1) + fabs(l2)) + 2.0 * eps * fabs(d);
   }
+  const double ad = fabs(d);
+  if (!(ad > 4.0 * ed) || !(ad > 1e-280)) return false;
+  const double nx = cy * bb - by * cc, ny = bx * cc - cx * bb;
+  const double enx = 16.0 * eps * (fabs(cy) * bb + fabs(by) * cc);
+  const double eny = 16.0 * eps * (fabs(bx) * cc + fabs(cx) * bb);
+  const double ux = nx / (2.0 * d), uy = ny / (2.0 * d);
+  // |d_true| >= 0.75 |d|: the quotient's error is at most (e_n + 2|u| e_d) / (1.5 |d|).
+  const double eux = (enx + 2.0 * fabs(ux) * ed) / (1.5 * ad) + 4.0 * eps * fabs(ux);
+  const double euy = (eny + 2.0 * fabs(uy) * ed) / (1.5 * ad) + 4.0 * eps * fabs(uy);
   if (!isfinite(ux) || !isfinite(uy) || !isfinite(eux + euy)) return false;
   const double ox = a.x + ux, oy = a.y + uy;
   const double r = sqrt(ux * ux + uy * uy);
