@@ -138,6 +138,12 @@ TEST_CASE("small exact configurations", "[degenerate]") {
       {"subnormal", {{0, 0}, {4.9e-324, 0}, {0, 4.9e-324}, {4.9e-324, 4.9e-324}}},
       {"max-double", {{-1.7e308, -1.7e308}, {1.7e308, -1.7e308}, {0, 1.7e308}, {0, 0}}},
       {"mixed-scales", {{0, 0}, {1e-300, 0}, {0, 1e-300}, {1e300, 1e300}, {-1e300, 1e300}}},
+      // 1e8 + k * 2^-26: shrunk from the offset family, where the Vulkan backend returned a
+      // non-Delaunay edge (and hung at n = 100).
+      {"offset-1e8-four-points", {{0x1.7d7840000002p+26, 0x1.7d7840000002p+26},
+                                  {0x1.7d78400000014p+26, 0x1.7d78400000025p+26},
+                                  {0x1.7d7840000001fp+26, 0x1.7d78400000017p+26},
+                                  {0x1.7d7840000001p+26, 0x1.7d78400000022p+26}}},
   };
   for (const auto& [name, points] : cases) expect_matches_cgal(name, points, options());
 }
