@@ -122,6 +122,14 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
     ux_error = 16 * eps * std::fabs(ux);
     uy_error = 16 * eps * std::fabs(uy);
   }
+  return circle_region(a, b, ux, uy, ux_error, uy_error);
+}
+
+ApexSearch::Region ApexSearch::circle_region(const Point2& a, const Point2& b, double ux, double uy,
+                                             double ux_error, double uy_error) const {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const Region everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
+  const double dx = b.x - a.x, dy = b.y - a.y;
   if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return everywhere;
   const double r = std::sqrt(ux * ux + uy * uy);
   const double r_hi =
@@ -184,26 +192,63 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   Region region{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
   big_buckets_.clear();
 
-  // Scans one bucket; the region box is recomputed once per bucket, not per improvement.
+  // Candidates are ranked by λ: circle(a, b, p) has its centre at m + λ (-dy, dx), and p lies
+  // inside circle(a, b, c) exactly when λ(p) < λ(c). λ and its forward error bound cost a few
+  // flops; only comparisons the bound cannot separate go to the exact perturbed incircle.
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  double best_lambda = 0, best_error = inf;
   const auto scan = [&](const BucketTree::Node& bucket) {
     bool improved = false;
     for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
       const BucketTree::Entry& e = entries[i];
       if (e.x < region.x0 || e.x > region.x1 || e.y < region.y0 || e.y > region.y1) continue;
       if (e.id == ia || e.id == ib) continue;
-      const Point2 p{e.x, e.y};
       ++candidates_tested_;
-      if (orient2d(a, b, p) <= 0) continue;
-      if (best < 0 || incircle_perturbed(a, b, best_point, p) > 0) {
+      const double pax = e.x - a.x, pay = e.y - a.y, pbx = e.x - b.x, pby = e.y - b.y;
+      const double cross = dx * pay - dy * pax;
+      const double cross_error = 5 * eps * (std::fabs(dx * pay) + std::fabs(dy * pax));
+      if (cross < -cross_error) continue;  // clearly right of a->b
+      const Point2 p{e.x, e.y};
+      double lambda = 0, error = inf;
+      // Above 1e-280 no product can have lost bits to underflow beyond the bounds' slack.
+      if (cross > cross_error && cross > 1e-280 && cross_error < inf) {
+        const double dot = pax * pbx + pay * pby;
+        const double dot_error = 5 * eps * (std::fabs(pax * pbx) + std::fabs(pay * pby)) + 1e-300;
+        lambda = dot / (2 * cross);
+        error = (dot_error + 2 * std::fabs(lambda) * cross_error) / (2 * (cross - cross_error)) +
+                4 * eps * std::fabs(lambda);
+        if (!std::isfinite(error)) error = inf;
+      } else if (orient2d(a, b, p) <= 0) {
+        continue;
+      }
+      bool better;
+      if (best < 0) {
+        better = true;
+      } else if (error < inf && best_error < inf && lambda + error < best_lambda - best_error) {
+        better = true;
+      } else if (error < inf && best_error < inf && lambda - error > best_lambda + best_error) {
+        better = false;
+      } else {
+        better = incircle_perturbed(a, b, best_point, p) > 0;
+      }
+      if (better) {
         best = e.id;
         best_point = p;
+        best_lambda = lambda;
+        best_error = error;
         improved = true;
       }
     }
-    if (improved) {
+    if (!improved) return;
+    if (best_error < 1e-3 * (1 + std::fabs(best_lambda))) {
+      const double ux = 0.5 * dx - best_lambda * dy, uy = 0.5 * dy + best_lambda * dx;
+      const double ux_error = best_error * std::fabs(dy) + 8 * eps * (std::fabs(dx) + std::fabs(best_lambda * dy));
+      const double uy_error = best_error * std::fabs(dx) + 8 * eps * (std::fabs(dy) + std::fabs(best_lambda * dx));
+      region = circle_region(a, b, ux, uy, ux_error, uy_error);
+    } else {
       region = left_region_box(a, b, best_point);
-      best_box = region.quant;
     }
+    best_box = region.quant;
   };
 
   // One round visits every bucket that meets `square` but not `visited` (the previous round's

@@ -34,6 +34,9 @@ class ApexSearch {
     double cx, cy, reach;   // the circle, its radius enlarged by every error bound (reach < 0:
                             // unreliable, no circle test)
   };
+  /// The region of the circle with centre a + (ux, uy), given forward error bounds of the centre.
+  Region circle_region(const Point2& a, const Point2& b, double ux, double uy, double ux_error,
+                       double uy_error) const;
   bool outside_circle(const QuantBox& box, const Region& region) const;
   Region left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
   QuantBox square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const;
