@@ -294,8 +294,9 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       // Enter the tree at the grid's cells: skips the top levels for small squares.
       const std::uint32_t ci = qmx >> shift, cj = qmy >> shift;
       descend(tree_.cell_node(static_cast<int>(ci), static_cast<int>(cj)), square);
-      for (std::uint32_t j = j0; j <= j1; ++j) {
-        for (std::uint32_t i = i0; i <= i1; ++i) {
+      // Only cells that can still meet the best circle's region (it shrinks as we go).
+      for (std::uint32_t j = std::max(j0, best_box.y0 >> shift); j <= std::min(j1, best_box.y1 >> shift); ++j) {
+        for (std::uint32_t i = std::max(i0, best_box.x0 >> shift); i <= std::min(i1, best_box.x1 >> shift); ++i) {
           if (i != ci || j != cj) descend(tree_.cell_node(static_cast<int>(i), static_cast<int>(j)), square);
         }
       }
