@@ -256,7 +256,27 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   // for good: a better candidate only shrinks circle ∩ left half-plane.
   QuantBox visited{1, 1, 0, 0};
   bool has_visited = false;
+  // Buckets: scanned unless visited in an earlier round, or already this round (a bucket
+  // spanning several cells is reached from each of them). Returns nothing; updates `best`.
+  const auto visit_bucket = [&](std::int32_t index, const BucketTree::Node& node, const QuantBox& box) {
+    if (has_visited && box.intersects(visited)) return;
+    if (node.size > (1u << shift)) {
+      if (std::find(big_buckets_.begin(), big_buckets_.end(), index) != big_buckets_.end()) return;
+      big_buckets_.push_back(index);
+    }
+    scan(node);
+  };
   const auto descend = [&](std::int32_t root, const QuantBox& square) {
+    {  // most cells are a single bucket: no stack for them
+      const BucketTree::Node& node = nodes[root];
+      if (node.begin == node.end) return;
+      const QuantBox box = node.box();
+      if (!box.intersects(square) || !box.intersects(best_box)) return;
+      if (node.first_child < 0) {
+        visit_bucket(root, node, box);
+        return;
+      }
+    }
     stack_.clear();
     stack_.push_back(root);
     while (!stack_.empty()) {
@@ -267,23 +287,18 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
-      if (outside_circle(box, region)) continue;
-      if (node.first_child >= 0) {
-        if (entirely_right(box, a, b)) continue;
-        // Children nearest the midpoint last, so they are popped first.
-        const std::uint32_t mid = node.size / 2;
-        const int near = (qmx >= node.x0 + mid ? 1 : 0) | (qmy >= node.y0 + mid ? 2 : 0);
-        for (int k = 3; k >= 0; --k) stack_.push_back(node.first_child + (near ^ k));
+      if (node.first_child < 0) {
+        visit_bucket(index, node, box);
         continue;
       }
-      if (has_visited && box.intersects(visited)) continue;
-      if (node.size > (1u << shift)) {  // a bucket spanning cells may be reached from several
-        if (std::find(big_buckets_.begin(), big_buckets_.end(), index) != big_buckets_.end()) continue;
-        big_buckets_.push_back(index);
-      }
-      scan(node);
+      if (outside_circle(box, region) || entirely_right(box, a, b)) continue;
+      // Children nearest the midpoint last, so they are popped first.
+      const std::uint32_t mid = node.size / 2;
+      const int near = (qmx >= node.x0 + mid ? 1 : 0) | (qmy >= node.y0 + mid ? 2 : 0);
+      for (int k = 3; k >= 0; --k) stack_.push_back(node.first_child + (near ^ k));
     }
   };
+
 
   constexpr std::uint32_t max_cells_per_side = 5;
   while (true) {

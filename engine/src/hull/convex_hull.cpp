@@ -43,9 +43,25 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
   for (std::size_t k = 0; usable && k < m; ++k) {
     usable = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[polygon[(k + 2) % m]]) > 0;
   }
+  // A box whose corners are strictly inside the polygon rejects most sites with four compares.
+  double inner_x0 = 0, inner_x1 = -1, inner_y0 = 0, inner_y1 = -1;
+  if (usable) {
+    // extreme[] order: S, SE, E, NE, N, NW, W, SW.
+    inner_x0 = std::max({p[extreme[5]].x, p[extreme[6]].x, p[extreme[7]].x});
+    inner_x1 = std::min({p[extreme[1]].x, p[extreme[2]].x, p[extreme[3]].x});
+    inner_y0 = std::max({p[extreme[7]].y, p[extreme[0]].y, p[extreme[1]].y});
+    inner_y1 = std::min({p[extreme[3]].y, p[extreme[4]].y, p[extreme[5]].y});
+    for (const Point2& corner : {Point2{inner_x0, inner_y0}, Point2{inner_x1, inner_y0}, Point2{inner_x1, inner_y1},
+                                 Point2{inner_x0, inner_y1}}) {
+      for (std::size_t k = 0; k < m; ++k) {
+        if (orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], corner) <= 0) inner_x1 = inner_x0 - 1;  // unusable
+      }
+    }
+  }
   std::vector<std::int32_t> candidates;
   candidates.reserve(usable ? 1024 : n);
   for (std::int32_t i = 0; i < n; ++i) {
+    if (p[i].x > inner_x0 && p[i].x < inner_x1 && p[i].y > inner_y0 && p[i].y < inner_y1) continue;
     bool strictly_inside = usable;
     for (std::size_t k = 0; strictly_inside && k < m; ++k) {
       strictly_inside = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[i]) > 0;
