@@ -9,6 +9,7 @@
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
+#include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
 #include "support/cgal_oracle.hpp"
 
@@ -139,4 +140,51 @@ TEST_CASE("seam stage with a single triangle left", "[seam]") {
   Fixture f("uniform", 2000);
   const Triangle keep = f.oracle_sites[f.oracle_sites.size() / 2];
   f.complete_and_compare([&](const Triangle& t) { return t == keep; });
+}
+
+TEST_CASE("adjacency audit trusts consistent device adjacency and catches spurious open edges", "[seam]") {
+  Fixture f("uniform", 3000);
+  std::mt19937_64 rng(3);
+  std::bernoulli_distribution drop(0.05);
+  PartialTriangulation partial;
+  for (const Triangle& t : f.oracle_sites) {
+    if (!drop(rng)) partial.triangles.push_back(t);
+  }
+  partial.neighbors = derive_neighbors(partial.triangles);
+  CHECK(adjacency_is_trustworthy(partial, f.hull));
+
+  SECTION("a link cut on one side only") {
+    for (auto& n : partial.neighbors) {
+      if (n[0] != no_neighbor) {
+        n[0] = no_neighbor;
+        break;
+      }
+    }
+    CHECK_FALSE(adjacency_is_trustworthy(partial, f.hull));
+  }
+  SECTION("a link cut on both sides: an interior edge claimed open") {
+    for (std::size_t t = 0; t < partial.neighbors.size(); ++t) {
+      const std::int32_t u = partial.neighbors[t][0];
+      if (u == no_neighbor) continue;
+      for (auto& back : partial.neighbors[u]) {
+        if (back == static_cast<std::int32_t>(t)) back = no_neighbor;
+      }
+      partial.neighbors[t][0] = no_neighbor;
+      break;
+    }
+    CHECK_FALSE(adjacency_is_trustworthy(partial, f.hull));
+  }
+  SECTION("a link to the wrong triangle") {
+    partial.neighbors[10][1] = 11;
+    CHECK_FALSE(adjacency_is_trustworthy(partial, f.hull));
+  }
+  SECTION("trusted adjacency completes to CGAL's mesh") {
+    const BucketTree tree(f.sites);
+    complete_seam(f.sites, f.hull, tree, partial);
+    std::vector<Triangle> result;
+    for (const Triangle& t : partial.triangles) {
+      result.push_back({f.sites.input_index[t[0]], f.sites.input_index[t[1]], f.sites.input_index[t[2]]});
+    }
+    CHECK(test::compare_triangles(result, f.oracle_input).equal);
+  }
 }

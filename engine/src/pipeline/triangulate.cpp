@@ -8,6 +8,7 @@
 #include "predicates/predicates.hpp"
 #include "expanse/error.hpp"
 #include "pipeline/backend_registry.hpp"
+#include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
 
 namespace expanse {
@@ -38,30 +39,6 @@ std::vector<std::int32_t> to_input_indices(const std::vector<std::int32_t>& site
   std::vector<std::int32_t> out(site_ids.size());
   for (std::size_t i = 0; i < site_ids.size(); ++i) out[i] = sites.input_index[site_ids[i]];
   return out;
-}
-
-// For a complete triangulation: symmetric links, and exactly one open (-1) edge per hull edge.
-bool adjacency_is_plausible(const detail::PartialTriangulation& partial, std::size_t hull_edges) {
-  const auto& tris = partial.triangles;
-  const auto& nbrs = partial.neighbors;
-  if (nbrs.size() != tris.size()) return false;
-  std::size_t open = 0;
-  for (std::size_t t = 0; t < tris.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t u = nbrs[t][k];
-      if (u == no_neighbor) {
-        ++open;
-        continue;
-      }
-      if (u < 0 || static_cast<std::size_t>(u) >= tris.size()) return false;
-      const auto& back = nbrs[u];
-      if (back[0] != static_cast<std::int32_t>(t) && back[1] != static_cast<std::int32_t>(t) &&
-          back[2] != static_cast<std::int32_t>(t)) {
-        return false;
-      }
-    }
-  }
-  return open == hull_edges;
 }
 
 }  // namespace
@@ -117,12 +94,12 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
 
     detail::PartialTriangulation& partial = grown.partial;
     const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
-    // Device adjacency is kept only for a complete mesh that passes a cheap O(n) audit. With a
-    // seam left, the seam stage derives the open front from the triangles themselves: a spurious
-    // -1 from a device would make it grow triangles that already exist.
-    const bool complete = partial.triangles.size() == expected;
-    if (!complete || !adjacency_is_plausible(partial, hull.sites.size())) partial.neighbors.clear();
-    if (!complete) {
+    // Device adjacency is used only if it passes the audit; otherwise it is derived here.
+    if (!partial.neighbors.empty()) {
+      const bool trusted = timed(stats, "audit", [&] { return detail::adjacency_is_trustworthy(partial, hull); });
+      if (!trusted) partial.neighbors.clear();
+    }
+    if (partial.triangles.size() != expected) {
       // Something is left open: the seam stage needs the bucket tree over every site.
       const detail::BucketTree tree = timed(stats, "buckets", [&] { return detail::BucketTree(sites); });
       const detail::SeamStats seam =
