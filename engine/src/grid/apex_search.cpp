@@ -174,7 +174,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   const Point2 a = sites_.points[ia];
   const Point2 b = sites_.points[ib];
   const auto& nodes = tree_.nodes();
-  const auto& entries = tree_.entries();
+  const auto& points = sites_.points;
   const int shift = tree_.cell_shift();
 
   const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
@@ -200,9 +200,9 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   const auto scan = [&](const BucketTree::Node& bucket) {
     bool improved = false;
     for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
-      const BucketTree::Entry& e = entries[i];
+      const Point2& e = points[i];
       if (e.x < region.x0 || e.x > region.x1 || e.y < region.y0 || e.y > region.y1) continue;
-      if (e.id == ia || e.id == ib) continue;
+      if (i == ia || i == ib) continue;
       ++candidates_tested_;
       const double pax = e.x - a.x, pay = e.y - a.y, pbx = e.x - b.x, pby = e.y - b.y;
       const double cross = dx * pay - dy * pax;
@@ -232,7 +232,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
         better = incircle_perturbed(a, b, best_point, p) > 0;
       }
       if (better) {
-        best = e.id;
+        best = i;
         best_point = p;
         best_lambda = lambda;
         best_error = error;
@@ -330,8 +330,8 @@ std::int32_t ApexSearch::nearest_neighbor(std::int32_t s) { return nearest(sites
 
 std::int32_t ApexSearch::nearest(const Point2& q, std::int32_t exclude) {
   const auto& nodes = tree_.nodes();
-  const auto& entries = tree_.entries();
-  if (entries.empty()) return -1;
+  const auto& points = sites_.points;
+  if (points.empty()) return -1;
   const std::uint32_t qx = tree_.quantise_x(q.x), qy = tree_.quantise_y(q.y);
   std::uint64_t half = tree_.bucket_size_at(qx, qy);
   std::int32_t best = -1;
@@ -356,11 +356,10 @@ std::int32_t ApexSearch::nearest(const Point2& q, std::int32_t exclude) {
       }
       if (has_visited && box.intersects(visited)) continue;
       for (std::int32_t i = node.begin; i < node.end; ++i) {
-        const BucketTree::Entry& e = entries[i];
-        if (e.id == exclude) continue;
-        const Point2 p{e.x, e.y};
+        if (i == exclude) continue;
+        const Point2& p = points[i];
         if (best < 0 || compare_squared_distance(q, p, best_point) < 0) {
-          best = e.id;
+          best = i;
           best_point = p;
           const double r = std::hypot(p.x - q.x, p.y - q.y) * (1 + 1e-9) + 4 * tree_.quantum();
           best_box = {tree_.quantise_x(q.x - r), tree_.quantise_y(q.y - r), tree_.quantise_x(q.x + r),

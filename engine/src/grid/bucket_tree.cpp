@@ -1,5 +1,6 @@
 #include "grid/bucket_tree.hpp"
 
+#include "expanse/error.hpp"
 #include "input/morton.hpp"
 
 #include <algorithm>
@@ -17,17 +18,13 @@ BucketTree::BucketTree(const SiteSet& sites) {
 
   const std::int32_t n = sites.size();
   std::vector<std::uint64_t> codes(n);
-  std::vector<std::int32_t> order(n);
-  std::iota(order.begin(), order.end(), 0);
   for (std::int32_t i = 0; i < n; ++i) {
     const Point2& p = sites.points[i];
     codes[i] = morton_code(quantise_x(p.x), quantise_y(p.y));
   }
-  sort_by_code(codes, order);  // free when the sites were sorted spatially already
-  entries_.resize(n);
-  for (std::int32_t i = 0; i < n; ++i) {
-    const Point2& p = sites.points[order[i]];
-    entries_[i] = {p.x, p.y, order[i]};
+  // Buckets are ranges of site ids: that needs the Morton order prepare_sites() establishes.
+  if (!std::is_sorted(codes.begin(), codes.end())) {
+    throw Error(ErrorCode::internal, "bucket tree built over sites that are not in Morton order");
   }
   nodes_.reserve(static_cast<std::size_t>(n) / 2 + 16);
   nodes_.push_back({0, 0, 1u << quant_bits, -1, 0, n});

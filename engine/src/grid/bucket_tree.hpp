@@ -27,18 +27,16 @@ class BucketTree {
   static constexpr std::uint32_t quant_max = (1u << quant_bits) - 1;
   static constexpr int bucket_capacity = 8;
 
-  struct Entry {  // a site in Morton order
-    double x, y;
-    std::int32_t id;
-  };
   struct Node {
     std::uint32_t x0, y0;  // quantised lower-left corner
     std::uint32_t size;    // side length in quanta (a power of two)
     std::int32_t first_child;  // index of 4 consecutive children, or -1 for a bucket
-    std::int32_t begin, end;   // range of entries
+    std::int32_t begin, end;   // range of site ids (sites are in Morton order)
     QuantBox box() const { return {x0, y0, x0 + (size - 1), y0 + (size - 1)}; }
   };
 
+  /// Precondition: sites as prepare_sites() returns them (in Morton order); throws
+  /// Error(internal) otherwise. The tree refers to the sites by id, it keeps no copy.
   explicit BucketTree(const SiteSet& sites);
 
   /// Quantised coordinate of a real one; monotone, clamped to [0, quant_max].
@@ -50,7 +48,6 @@ class BucketTree {
   double quantum() const { return 1.0 / scale_; }
 
   const std::vector<Node>& nodes() const { return nodes_; }
-  const std::vector<Entry>& entries() const { return entries_; }
   /// Side (in quanta) of the bucket containing quantised point (qx, qy).
   std::uint32_t bucket_size_at(std::uint32_t qx, std::uint32_t qy) const;
 
@@ -75,7 +72,6 @@ class BucketTree {
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
   int grid_level_ = 0;
   std::vector<std::int32_t> cell_node_;
-  std::vector<Entry> entries_;
   std::vector<Node> nodes_;
 };
 

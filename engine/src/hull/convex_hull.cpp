@@ -51,6 +51,13 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
     inner_x1 = std::min({p[extreme[1]].x, p[extreme[2]].x, p[extreme[3]].x});
     inner_y0 = std::max({p[extreme[7]].y, p[extreme[0]].y, p[extreme[1]].y});
     inner_y1 = std::min({p[extreme[3]].y, p[extreme[4]].y, p[extreme[5]].y});
+    // A corner often is an extreme site itself (on the polygon, not strictly inside): pull the
+    // box in a little. The corners are then checked exactly.
+    const double shrink_x = 1e-6 * (inner_x1 - inner_x0), shrink_y = 1e-6 * (inner_y1 - inner_y0);
+    inner_x0 += shrink_x;
+    inner_x1 -= shrink_x;
+    inner_y0 += shrink_y;
+    inner_y1 -= shrink_y;
     for (const Point2& corner : {Point2{inner_x0, inner_y0}, Point2{inner_x1, inner_y0}, Point2{inner_x1, inner_y1},
                                  Point2{inner_x0, inner_y1}}) {
       for (std::size_t k = 0; k < m; ++k) {

@@ -26,7 +26,7 @@ std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
 
 void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values) {
   if (std::is_sorted(codes.begin(), codes.end())) return;
-  constexpr int digit_bits = 12;
+  constexpr int digit_bits = 15;  // 60-bit codes in four passes; 32K counters stay in L2
   constexpr std::size_t radix = std::size_t{1} << digit_bits;
   const std::size_t n = codes.size();
   std::vector<std::uint64_t> codes_tmp(n);
