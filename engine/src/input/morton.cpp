@@ -1,5 +1,7 @@
 #include "input/morton.hpp"
 
+#include "input/parallel.hpp"
+
 #include <algorithm>
 #include <numeric>
 #include <utility>
@@ -26,22 +28,34 @@ std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
 
 void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values) {
   if (std::is_sorted(codes.begin(), codes.end())) return;
+  // LSD radix sort, stable. Each chunk counts its own digits; the scatter offsets of chunk c for
+  // digit d come after every earlier digit and after chunks < c of digit d, so the result is
+  // the same as a sequential pass.
   constexpr int digit_bits = 15;  // 60-bit codes in four passes; 32K counters stay in L2
   constexpr std::size_t radix = std::size_t{1} << digit_bits;
   const std::size_t n = codes.size();
+  const std::size_t chunks = chunk_count(n);
   std::vector<std::uint64_t> codes_tmp(n);
   std::vector<std::int32_t> values_tmp(n);
-  std::vector<std::size_t> count(radix);
+  std::vector<std::vector<std::size_t>> count(chunks, std::vector<std::size_t>(radix));
   for (int shift = 0; shift < 2 * Quantiser::bits; shift += digit_bits) {
-    std::fill(count.begin(), count.end(), 0);
-    for (std::uint64_t c : codes) ++count[(c >> shift) & (radix - 1)];
+    parallel_chunks(n, [&](std::size_t c, std::size_t begin, std::size_t end) {
+      auto& mine = count[c];
+      std::fill(mine.begin(), mine.end(), 0);
+      for (std::size_t i = begin; i < end; ++i) ++mine[(codes[i] >> shift) & (radix - 1)];
+    });
     std::size_t sum = 0;
-    for (auto& c : count) sum += std::exchange(c, sum);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t slot = count[(codes[i] >> shift) & (radix - 1)]++;
-      codes_tmp[slot] = codes[i];
-      values_tmp[slot] = values[i];
+    for (std::size_t d = 0; d < radix; ++d) {
+      for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(count[c][d], sum);
     }
+    parallel_chunks(n, [&](std::size_t c, std::size_t begin, std::size_t end) {
+      auto& next = count[c];
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::size_t slot = next[(codes[i] >> shift) & (radix - 1)]++;
+        codes_tmp[slot] = codes[i];
+        values_tmp[slot] = values[i];
+      }
+    });
     codes.swap(codes_tmp);
     values.swap(values_tmp);
   }

@@ -8,6 +8,7 @@
 
 #include "expanse/error.hpp"
 #include "input/morton.hpp"
+#include "input/parallel.hpp"
 
 namespace expanse::detail {
 namespace {
@@ -45,29 +46,55 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     throw Error(ErrorCode::too_large, "at most 2^31 - 1 points are supported, got " +
                                           std::to_string(input.size()));
   }
+  // Validation and the magnitude range, per chunk; chunk order makes the first bad point the
+  // one reported.
+  const std::size_t n = input.size();
+  struct Range {
+    double max_abs = 0.0;
+    double min_nonzero_abs = std::numeric_limits<double>::infinity();
+  };
+  std::vector<Range> ranges(chunk_count(n));
+  parallel_chunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    Range r;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Point2& p = input[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw_non_finite(i, p);
+      for (double v : {std::fabs(p.x), std::fabs(p.y)}) {
+        if (v > r.max_abs) r.max_abs = v;
+        if (v != 0.0 && v < r.min_nonzero_abs) r.min_nonzero_abs = v;
+      }
+    }
+    ranges[chunk] = r;
+  });
   double max_abs = 0.0;
   double min_nonzero_abs = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < input.size(); ++i) {
-    const Point2& p = input[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw_non_finite(i, p);
-    for (double v : {std::fabs(p.x), std::fabs(p.y)}) {
-      if (v > max_abs) max_abs = v;
-      if (v != 0.0 && v < min_nonzero_abs) min_nonzero_abs = v;
-    }
+  for (const Range& r : ranges) {
+    max_abs = std::max(max_abs, r.max_abs);
+    min_nonzero_abs = std::min(min_nonzero_abs, r.min_nonzero_abs);
   }
 
   SiteSet sites;
   sites.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
-  const std::size_t n = input.size();
   std::vector<Point2> scaled(n);
-  Box box{};
-  for (std::size_t i = 0; i < n; ++i) {
-    scaled[i] = {std::ldexp(input[i].x, sites.scale_exponent), std::ldexp(input[i].y, sites.scale_exponent)};
-    if (i == 0) box = {scaled[0].x, scaled[0].y, scaled[0].x, scaled[0].y};
-    box.min_x = std::min(box.min_x, scaled[i].x);
-    box.max_x = std::max(box.max_x, scaled[i].x);
-    box.min_y = std::min(box.min_y, scaled[i].y);
-    box.max_y = std::max(box.max_y, scaled[i].y);
+  std::vector<Box> boxes(ranges.size());
+  parallel_chunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    Box box{};
+    for (std::size_t i = begin; i < end; ++i) {
+      scaled[i] = {std::ldexp(input[i].x, sites.scale_exponent), std::ldexp(input[i].y, sites.scale_exponent)};
+      if (i == begin) box = {scaled[i].x, scaled[i].y, scaled[i].x, scaled[i].y};
+      box.min_x = std::min(box.min_x, scaled[i].x);
+      box.max_x = std::max(box.max_x, scaled[i].x);
+      box.min_y = std::min(box.min_y, scaled[i].y);
+      box.max_y = std::max(box.max_y, scaled[i].y);
+    }
+    boxes[chunk] = box;
+  });
+  Box box = boxes.empty() ? Box{} : boxes[0];
+  for (const Box& b : boxes) {
+    box.min_x = std::min(box.min_x, b.min_x);
+    box.max_x = std::max(box.max_x, b.max_x);
+    box.min_y = std::min(box.min_y, b.min_y);
+    box.max_y = std::max(box.max_y, b.max_y);
   }
   sites.bounds = box;
 
@@ -76,20 +103,29 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   const Quantiser quantiser(box);
   std::vector<std::uint64_t> codes(n);
   std::vector<std::int32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    codes[i] = morton_code(quantiser.x(scaled[i].x), quantiser.y(scaled[i].y));
-    order[i] = static_cast<std::int32_t>(i);
-  }
+  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      codes[i] = morton_code(quantiser.x(scaled[i].x), quantiser.y(scaled[i].y));
+      order[i] = static_cast<std::int32_t>(i);
+    }
+  });
   sort_by_code(codes, order);
 
-  sites.representative.resize(n);
+  // Gather into sorted order (the random reads happen here, spread over the threads), then
+  // merge duplicates in one sequential pass and scatter the representatives back.
+  std::vector<Point2> sorted(n);
+  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) sorted[k] = scaled[order[k]];
+  });
+  std::vector<Point2>().swap(scaled);
+  std::vector<std::int32_t> representative_of_sorted(n);
   sites.points.reserve(n);
   sites.input_index.reserve(n);
   std::size_t run_start_site = 0;  // first site of the current run of equal codes
   for (std::size_t k = 0; k < n; ++k) {
     if (k == 0 || codes[k] != codes[k - 1]) run_start_site = sites.points.size();
     const std::int32_t i = order[k];
-    const Point2 p = scaled[i];
+    const Point2 p = sorted[k];
     std::int32_t representative = i;
     for (std::size_t s = run_start_site; s < sites.points.size(); ++s) {  // runs are tiny
       if (sites.points[s].x == p.x && sites.points[s].y == p.y) {
@@ -97,12 +133,16 @@ SiteSet prepare_sites(std::span<const Point2> input) {
         break;
       }
     }
-    sites.representative[i] = representative;
+    representative_of_sorted[k] = representative;
     if (representative == i) {
       sites.points.push_back(p);
       sites.input_index.push_back(i);
     }
   }
+  sites.representative.resize(n);
+  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) sites.representative[order[k]] = representative_of_sorted[k];
+  });
   return sites;
 }
 
