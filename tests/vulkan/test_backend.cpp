@@ -2,12 +2,18 @@
 // triangles on small inputs of every awkward kind, and must make most of them on the device.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "backends/backend.hpp"
 #include "expanse/triangulate.hpp"
 #include "harness.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "seam/adjacency_audit.hpp"
 
 namespace expanse::vulkan_tests {
 namespace {
@@ -67,12 +73,81 @@ std::vector<Input> inputs() {
     Input i{"three points", {{0, 0}, {1, 0}, {0, 1}}, true};
     in.push_back(i);
   }
+  {
+    // Wheels of 96 rim sites around two hub sites: both hubs exceed the device's star capacity
+    // and defer, and they are adjacent, so the triangles across the hub-hub edge (owned by rim
+    // sites) can only be linked through the backend's unresolved-slot pairing.
+    Input i{"wheels with two adjacent deferred hubs", {}, false};
+    for (int wy = 0; wy < 6; ++wy)
+      for (int wx = 0; wx < 6; ++wx) {
+        const double cx = 10.0 * wx, cy = 10.0 * wy, turn = 0.1 * (wx + 6 * wy);
+        for (int k = 0; k < 96; ++k) {
+          // Radii jittered: cocircular rims would defer on inexact predicates instead.
+          const double a = turn + k * (2 * M_PI / 96), r = 4 + 0.2 * unit(rng);
+          i.points.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
+        }
+        // Hub pairs in varied directions, so that in some wheels both rim sites across the
+        // hub-hub edge come first in site order and both triangles there are emitted.
+        const double h = 0.37 * (wx + 6 * wy);
+        i.points.push_back({cx - 0.1 * std::cos(h), cy - 0.1 * std::sin(h)});
+        i.points.push_back({cx + 0.1 * std::cos(h), cy + 0.1 * std::sin(h)});
+      }
+    in.push_back(i);
+  }
   return in;
+}
+
+// The backend's own adjacency, checked exactly (not through the audit's hashes) and by the audit
+// the pipeline uses: every link crosses a shared edge and is symmetric, and a slot is
+// no_neighbor exactly when no emitted triangle lies across the edge.
+void check_device_adjacency(const Input& input) {
+  const detail::SiteSet sites = detail::prepare_sites(input.points);
+  const detail::Hull hull = detail::convex_hull(sites);
+  const Layout layout{};
+  auto backend = detail::make_vulkan_backend(-1);
+  const detail::GrowResult grown = backend->grow({sites, hull, layout});
+  const detail::PartialTriangulation& partial = grown.partial;
+  const auto& tris = partial.triangles;
+  const auto& nbrs = partial.neighbors;
+  VK_CHECK_THAT(nbrs.size() == tris.size(), "%s: %zu neighbour rows for %zu triangles",
+                input.name.c_str(), nbrs.size(), tris.size());
+  if (nbrs.size() != tris.size()) return;
+  VK_CHECK_THAT(detail::adjacency_is_trustworthy(partial, hull),
+                "%s: the device adjacency fails the pipeline's audit", input.name.c_str());
+  std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> edge_owner;  // directed edge -> t
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) edge_owner[{tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]}] = std::int32_t(t);
+  std::size_t wrong = 0, links = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t x = tris[t][(k + 1) % 3], y = tris[t][(k + 2) % 3];
+      const auto across = edge_owner.find({y, x});
+      const std::int32_t expected = across == edge_owner.end() ? no_neighbor : across->second;
+      const std::int32_t u = nbrs[t][k];
+      if (u != no_neighbor) ++links;
+      bool ok = u == expected;
+      if (ok && u != no_neighbor) {
+        // The link crosses a shared edge, and the neighbour links back through that edge.
+        const Triangle& other = tris[std::size_t(u)];
+        bool back = false;
+        for (int j = 0; j < 3; ++j)
+          back = back || (other[(j + 1) % 3] == y && other[(j + 2) % 3] == x && nbrs[std::size_t(u)][j] == std::int32_t(t));
+        ok = back;
+      }
+      if (!ok && wrong++ < 5)
+        VK_CHECK_THAT(ok, "%s: triangle %zu slot %d links %d, expected %d", input.name.c_str(), t, k, u,
+                      expected);
+    }
+  }
+  VK_CHECK_THAT(wrong == 0, "%s: %zu wrong adjacency slots", input.name.c_str(), wrong);
+  std::printf("  %-40s device adjacency: %zu triangles, %zu links, %zu deferred sites\n",
+              input.name.c_str(), tris.size(), links, partial.deferred_expansions);
 }
 
 }  // namespace
 
 void test_backend() {
+  for (const Input& input : inputs()) check_device_adjacency(input);
   Layout paper = Layout::paper();
   paper.blocks_per_side = 4;
   paper.buckets_per_block_side = 4;

@@ -4,11 +4,13 @@
 
 #include "expanse_spirv/blocks_spv.h"
 #include "expanse_spirv/predicate_test_spv.h"
+#include "expanse_spirv/star_links_spv.h"
 #include "expanse_spirv/star_spv.h"
 
 namespace expanse::detail::vk::spirv {
 
 std::span<const std::uint32_t> star() { return expanse_spirv_star; }
+std::span<const std::uint32_t> star_links() { return expanse_spirv_star_links; }
 std::span<const std::uint32_t> blocks() { return expanse_spirv_blocks; }
 std::span<const std::uint32_t> predicate_test() { return expanse_spirv_predicate_test; }
 

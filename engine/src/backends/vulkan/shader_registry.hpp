@@ -6,6 +6,7 @@
 namespace expanse::detail::vk::spirv {
 
 std::span<const std::uint32_t> star();
+std::span<const std::uint32_t> star_links();
 std::span<const std::uint32_t> blocks();
 std::span<const std::uint32_t> predicate_test();
 

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <unordered_map>
 
 #include "backends/backend.hpp"
 #include "backends/vulkan/shader_registry.hpp"
@@ -68,6 +69,17 @@ struct GridParams {
   std::int32_t triangle_capacity;
 };
 static_assert(sizeof(GridParams) == 48);
+
+struct LinkParams {
+  std::int32_t count;
+  std::int32_t first;
+  std::int32_t unresolved_capacity;
+  std::int32_t pad;
+};
+static_assert(sizeof(LinkParams) == 16);
+
+// Star row length on the device (shaders/star.comp, STAR_CAPACITY): longer stars defer.
+constexpr std::uint32_t star_capacity = 16;
 
 template <class T>
 void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
@@ -197,8 +209,12 @@ class VulkanBackend final : public Backend {
 
     // Each triangle is emitted once and there are at most 2n - 5.
     const std::size_t capacity = 2 * n;
+    // Slots whose adjacency the device cannot find (both far vertices deferred); more than this
+    // and the adjacency is left to the host.
+    const std::size_t unresolved_capacity = n / 4 + 1024;
     ctx.require_fits(bytes_of(n, 16), "the sites");
     ctx.require_fits(bytes_of(capacity, 12), "the triangle output");
+    ctx.require_fits(bytes_of(n, 4 * star_capacity), "the stars");
 
     start = Clock::now();
     Buffer sites(ctx, bytes_of(n, 16), false);
@@ -206,9 +222,17 @@ class VulkanBackend final : public Backend {
     Buffer predecessor(ctx, bytes_of(n, 4), false);
     Buffer triangles(ctx, bytes_of(capacity, 12), false);
     Buffer counters(ctx, 64, false);
+    Buffer stars(ctx, bytes_of(n, 4 * star_capacity), false);
+    Buffer site_info(ctx, bytes_of(n, 8), false);
+    Buffer neighbors(ctx, bytes_of(capacity, 12), false);
+    Buffer unresolved(ctx, bytes_of(unresolved_capacity, 4), false);
     const VkDeviceSize in_bytes = sites.size() + cell_start.size() + predecessor.size();
     Buffer upload(ctx, in_bytes, true);
-    Buffer download(ctx, triangles.size() + counters.size(), true);
+    // Download layout: triangles, neighbours, counters, unresolved slots.
+    const VkDeviceSize o_neighbors = triangles.size();
+    const VkDeviceSize o_counters = o_neighbors + neighbors.size();
+    const VkDeviceSize o_unresolved = o_counters + counters.size();
+    Buffer download(ctx, o_unresolved + unresolved.size(), true);
     VkDeviceSize offset = 0;
     put(upload, offset, s.points);
     const VkDeviceSize cell_offset = offset;
@@ -223,10 +247,14 @@ class VulkanBackend final : public Backend {
         ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
-    const std::uint32_t spec[] = {wg, 48, loop_budget(true)};
-    Kernel& kernel = ctx.kernel("star", spirv::star(), 5, sizeof(GridParams), spec);
-    Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters};
+    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
+    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(GridParams), spec);
+    Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info};
     kernel.bind(bindings);
+    const std::uint32_t link_spec[] = {wg, star_capacity};
+    Kernel& links = ctx.kernel("star_links", spirv::star_links(), 5, sizeof(LinkParams), link_spec);
+    Buffer* link_bindings[] = {&stars, &site_info, &neighbors, &unresolved, &counters};
+    links.bind(link_bindings);
 
     start = Clock::now();
     Recording rec(ctx);
@@ -246,8 +274,18 @@ class VulkanBackend final : public Backend {
     }
     rec.barrier();
     rec.timestamp("vulkan: stars");
+    LinkParams link_params{std::int32_t(n), 0, std::int32_t(unresolved_capacity), 0};
+    for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
+      link_params.first = std::int32_t(first);
+      const std::uint64_t left = (n - first + wg - 1) / wg;
+      rec.dispatch(links, &link_params, std::uint32_t(std::min(left, max_groups)));
+    }
+    rec.barrier();
+    rec.timestamp("vulkan: links");
     rec.copy(triangles, download, triangles.size(), 0, 0);
-    rec.copy(counters, download, counters.size(), 0, triangles.size());
+    rec.copy(neighbors, download, neighbors.size(), 0, o_neighbors);
+    rec.copy(counters, download, counters.size(), 0, o_counters);
+    rec.copy(unresolved, download, unresolved.size(), 0, o_unresolved);
     rec.barrier();
     rec.timestamp("vulkan: download");
     result.device_stages = rec.submit();
@@ -255,7 +293,8 @@ class VulkanBackend final : public Backend {
 
     start = Clock::now();
     std::uint32_t count[16];
-    std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
+    const char* mapped = static_cast<const char*>(download.mapped());
+    std::memcpy(count, mapped + o_counters, sizeof(count));
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
     std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
@@ -263,7 +302,45 @@ class VulkanBackend final : public Backend {
     finish(s, raw, count[0], result);
     result.partial.deferred_expansions = count[1];
     result.iterations = 1;
+    // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
+    // Either way the adjacency is left empty, and the pipeline derives it.
+    if (count[5] == 0 && count[6] == 0)
+      read_neighbors(mapped + o_neighbors, reinterpret_cast<const std::int32_t*>(mapped + o_unresolved),
+                     count[4], result.partial);
     result.host_stages.push_back({"vulkan: read back", ms_since(start)});
+  }
+
+  // Copies the device adjacency and links the slots the device listed as unresolved (edges
+  // whose two vertices both deferred): the triangle across x->y, if emitted, is listed too with
+  // y->x, so pairing the listed slots by edge completes the adjacency.
+  static void read_neighbors(const char* device_neighbors, const std::int32_t* slots,
+                             std::size_t slot_count, PartialTriangulation& partial) {
+    const std::size_t count = partial.triangles.size();
+    auto& nbrs = partial.neighbors;
+    nbrs.resize(count);
+    static_assert(sizeof(nbrs[0]) == 12);
+    std::memcpy(nbrs.data(), device_neighbors, count * 12);
+    if (slot_count == 0) return;
+    auto edge = [&](std::int32_t slot, bool reversed) {
+      const Triangle& t = partial.triangles[std::size_t(slot / 3)];
+      const int k = slot % 3;
+      std::uint64_t x = std::uint32_t(t[std::size_t((k + 1) % 3)]);
+      std::uint64_t y = std::uint32_t(t[std::size_t((k + 2) % 3)]);
+      if (reversed) std::swap(x, y);
+      return (x << 32) | y;
+    };
+    std::unordered_map<std::uint64_t, std::int32_t> open;
+    open.reserve(slot_count);
+    for (std::size_t i = 0; i < slot_count; ++i) {
+      if (slots[i] < 0 || std::size_t(slots[i] / 3) >= count)
+        throw Error(ErrorCode::internal, "Vulkan: the device listed an invalid adjacency slot");
+      open.emplace(edge(slots[i], false), slots[i]);
+    }
+    for (std::size_t i = 0; i < slot_count; ++i) {
+      const auto found = open.find(edge(slots[i], true));
+      nbrs[std::size_t(slots[i] / 3)][std::size_t(slots[i] % 3)] =
+          found == open.end() ? no_neighbor : found->second / 3;
+    }
   }
 
   void grow_blocks(const GrowInput& input, GrowResult& result) {
