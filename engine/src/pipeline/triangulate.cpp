@@ -8,6 +8,7 @@
 #include "predicates/predicates.hpp"
 #include "expanse/error.hpp"
 #include "pipeline/backend_registry.hpp"
+#include "pipeline/run_pipeline.hpp"
 #include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
 
@@ -48,7 +49,9 @@ struct Triangulator::Impl {
   std::unique_ptr<detail::Backend> backend;
 };
 
-Triangulator::Triangulator(const Options& options) : impl_(std::make_unique<Impl>()) {
+namespace detail {
+
+void require_exact_arithmetic() {
   // Exactness rests on error-free transformations; a build that fused them into FMA, or a CPU
   // flushing subnormals, must not return meshes. Checked once per process.
   static const bool arithmetic_is_exact = detail::predicates_self_test();
@@ -57,6 +60,12 @@ Triangulator::Triangulator(const Options& options) : impl_(std::make_unique<Impl
                 "the exact-arithmetic self-test failed: this build contracts floating-point operations "
                 "(FMA) or flushes subnormals; rebuild with -ffp-contract=off");
   }
+}
+
+}  // namespace detail
+
+Triangulator::Triangulator(const Options& options) : impl_(std::make_unique<Impl>()) {
+  detail::require_exact_arithmetic();
   impl_->options = options;
   impl_->backend = detail::make_backend(options.backend, options.device);
 }
@@ -67,10 +76,13 @@ Triangulator& Triangulator::operator=(Triangulator&&) noexcept = default;
 BackendKind Triangulator::backend() const { return impl_->backend->kind(); }
 
 Mesh Triangulator::triangulate(std::span<const Point2> points) {
+  return detail::run_pipeline(*impl_->backend, impl_->options, points);
+}
+
+Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points) {
   const auto start = Clock::now();
   Mesh mesh;
   Stats& stats = mesh.stats;
-  detail::Backend& backend = *impl_->backend;
   stats.backend = std::string(to_string(backend.kind()));
   stats.device = backend.device_name();
   stats.input_points = points.size();
@@ -84,7 +96,7 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
 
   if (sites.size() >= 3 && !hull.collinear) {
     detail::GrowResult grown = timed(stats, "grow", [&] {
-      return backend.grow({sites, hull, impl_->options.layout});
+      return backend.grow({sites, hull, options.layout});
     });
     for (auto& stage : grown.host_stages) stats.stages.push_back(std::move(stage));
     stats.device_stages = std::move(grown.device_stages);
@@ -105,7 +117,7 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
       const detail::SeamStats seam =
           timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
       stats.seam_triangles = seam.triangles_made;
-    } else if (impl_->options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
+    } else if (options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
       partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
     }
 
@@ -114,7 +126,7 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
       for (Triangle& t : mesh.triangles) {
         for (std::int32_t& v : t) v = sites.input_index[v];
       }
-      if (impl_->options.neighbors) mesh.neighbors = std::move(partial.neighbors);
+      if (options.neighbors) mesh.neighbors = std::move(partial.neighbors);
     });
   }
   stats.triangles = mesh.triangles.size();
