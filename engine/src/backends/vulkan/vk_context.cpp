@@ -325,8 +325,20 @@ Context::Context(std::shared_ptr<Instance> instance, VkPhysicalDevice physical, 
   create_common();
 }
 
+Context::Context(std::shared_ptr<Instance> instance, const PhysicalDevice& physical,
+                 VkDevice device, VkQueue queue)
+    : instance_(std::move(instance)), physical_(physical), owned_(false), device_(device),
+      queue_(queue) {
+  try {
+    create_common();
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
 void Context::create_common() {
-  vkGetDeviceQueue(device_, physical_.queue_family, 0, &queue_);
+  if (queue_ == VK_NULL_HANDLE) vkGetDeviceQueue(device_, physical_.queue_family, 0, &queue_);
   vkGetPhysicalDeviceMemoryProperties(physical_.handle, &memory_);
   VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -345,7 +357,9 @@ Context::~Context() { release(); }
 
 void Context::release() {
   if (device_ == VK_NULL_HANDLE) return;
-  vkDeviceWaitIdle(device_);
+  // A borrowed device's queues belong to the application (and must be externally
+  // synchronised): nothing of ours is in flight there, so do not touch them.
+  if (owned_) vkDeviceWaitIdle(device_);
   kernels_.clear();
   if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
   if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);

@@ -143,6 +143,8 @@ class Recording {
   void dispatch(const Kernel& kernel, const void* push_constants, std::uint32_t groups);
   /// Makes all earlier transfer/compute writes visible to all later transfer/compute access.
   void barrier();
+  /// The command buffer being recorded, for commands the methods above do not cover.
+  VkCommandBuffer commands() const { return commands_; }
   /// Marks a stage boundary; the stage ending here is called `name`.
   void timestamp(std::string name);
   /// Submits, waits, and returns the timed stages (empty when the queue has no timestamps).
@@ -167,6 +169,12 @@ class Context {
   /// shaderFloat64 enabled and a compute-capable queue family `queue_family`.
   Context(std::shared_ptr<Instance> instance, VkPhysicalDevice physical, VkDevice device,
           std::uint32_t queue_family);
+  /// Borrows a device and one of its queues (any index of physical.queue_family) that the
+  /// application already has; physical describes that family (queue_family, timestamp_bits).
+  /// The caller has checked the device (see expanse/vulkan_interop.hpp). Nothing is waited on
+  /// at destruction: every submission of Expanse is waited for before it returns.
+  Context(std::shared_ptr<Instance> instance, const PhysicalDevice& physical, VkDevice device,
+          VkQueue queue);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;

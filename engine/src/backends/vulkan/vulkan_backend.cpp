@@ -536,6 +536,10 @@ std::shared_ptr<Context> shared_context(int index) {
   return context;
 }
 
+std::unique_ptr<Backend> make_backend_on(std::shared_ptr<Context> context) {
+  return std::make_unique<VulkanBackend>(std::move(context));
+}
+
 void run_predicate_kernel(Context& ctx, std::span<const double> cases,
                           std::vector<std::int32_t>& signs, std::vector<double>& eft) {
   std::lock_guard lock(ctx.mutex());
