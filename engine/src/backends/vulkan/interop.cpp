@@ -1,0 +1,240 @@
+// expanse::vulkan::Triangulator: the application's device and queue in, a Mesh or its own index
+// buffer filled out. The points are read back through a staging buffer, the pipeline runs with
+// a Vulkan backend on a Context that borrows the application's device, and the indices go back
+// through the same staging buffer.
+// Vulkan structs are value-initialised from their sType alone ({VK_STRUCTURE_TYPE_...}).
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include "expanse/vulkan_interop.hpp"
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "backends/vulkan/vk_context.hpp"
+#include "backends/vulkan/vulkan_backend.hpp"
+#include "expanse/error.hpp"
+#include "pipeline/run_pipeline.hpp"
+
+namespace expanse::vulkan {
+namespace {
+
+namespace vk = detail::vk;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Storage buffers bound at once by the largest kernel (shaders/blocks.comp) and the largest
+// push-constant block (GridParams in vulkan_backend.cpp).
+constexpr std::uint32_t kernel_storage_buffers = 10;
+constexpr std::uint32_t kernel_push_constant_bytes = 48;
+
+void require(bool ok, ErrorCode code, const std::string& message) {
+  if (!ok) throw Error(code, "Vulkan interop: " + message);
+}
+
+// The physical device as Expanse sees it, checked against what the kernels need, with the
+// application's queue family in place of the one Expanse would have picked.
+vk::PhysicalDevice check_device(const vk::Instance& instance, const DeviceHandles& h) {
+  const vk::PhysicalDevice* found = nullptr;
+  for (const auto& d : instance.devices())
+    if (d.handle == h.physical_device) found = &d;
+  require(found != nullptr, ErrorCode::invalid_argument,
+          "physical_device is not one of the instance's physical devices");
+  vk::PhysicalDevice d = *found;
+  const std::string name = d.properties.deviceName;
+  require(d.properties.apiVersion >= VK_API_VERSION_1_1, ErrorCode::backend_unavailable,
+          "device " + name + " supports only Vulkan 1.0; 1.1 or newer is required");
+  require(d.fp64, ErrorCode::backend_unavailable,
+          "device " + name +
+              " has no shaderFloat64 (64-bit floats are required for exact predicates)");
+  require(h.enabled_features.shaderFloat64 == VK_TRUE, ErrorCode::backend_unavailable,
+          "DeviceHandles::enabled_features.shaderFloat64 is VK_FALSE: create the device with "
+          "shaderFloat64 enabled (device " + name + " supports it) and pass the features it "
+          "was created with");
+
+  std::uint32_t families = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(h.physical_device, &families, nullptr);
+  std::vector<VkQueueFamilyProperties> family(families);
+  vkGetPhysicalDeviceQueueFamilyProperties(h.physical_device, &families, family.data());
+  require(h.queue_family < families, ErrorCode::invalid_argument,
+          "queue_family " + std::to_string(h.queue_family) + " does not exist (device " + name +
+              " has " + std::to_string(families) + ")");
+  require((family[h.queue_family].queueFlags & VK_QUEUE_COMPUTE_BIT) != 0,
+          ErrorCode::invalid_argument,
+          "queue_family " + std::to_string(h.queue_family) + " of device " + name +
+              " does not support compute");
+  d.queue_family = h.queue_family;
+  d.has_compute_queue = true;
+  d.timestamp_bits = family[h.queue_family].timestampValidBits;
+
+  const VkPhysicalDeviceLimits& limits = d.properties.limits;
+  auto limit = [&](std::uint32_t have, std::uint32_t need, const char* what) {
+    require(have >= need, ErrorCode::backend_unavailable,
+            "device " + name + ": " + what + " is " + std::to_string(have) +
+                "; Expanse's kernels need " + std::to_string(need));
+  };
+  limit(limits.maxPerStageDescriptorStorageBuffers, kernel_storage_buffers,
+        "maxPerStageDescriptorStorageBuffers");
+  limit(limits.maxDescriptorSetStorageBuffers, kernel_storage_buffers,
+        "maxDescriptorSetStorageBuffers");
+  limit(limits.maxBoundDescriptorSets, 1, "maxBoundDescriptorSets");
+  limit(limits.maxPushConstantsSize, kernel_push_constant_bytes, "maxPushConstantsSize");
+  return d;
+}
+
+}  // namespace
+
+std::size_t max_triangles(std::size_t count) noexcept { return count >= 3 ? 2 * count - 5 : 0; }
+
+VkDeviceSize max_index_buffer_bytes(std::size_t count) noexcept {
+  return VkDeviceSize(max_triangles(count)) * 3 * sizeof(std::uint32_t);
+}
+
+struct Triangulator::Impl {
+  Options options;
+  std::shared_ptr<vk::Instance> instance;
+  std::shared_ptr<vk::Context> context;
+  std::unique_ptr<detail::Backend> backend;
+  std::unique_ptr<vk::Buffer> staging;  // host-visible, grown as needed; destroyed first
+
+  vk::Buffer& staging_for(VkDeviceSize bytes) {
+    if (!staging || staging->size() < bytes) {
+      staging.reset();
+      staging = std::make_unique<vk::Buffer>(*context, bytes, true);
+    }
+    return *staging;
+  }
+
+  // Copies count points from the application's buffer to the host.
+  std::vector<Point2> read_points(VkBuffer points, VkDeviceSize offset, std::size_t count) {
+    if (count > std::size_t(std::numeric_limits<std::int32_t>::max()))
+      throw Error(ErrorCode::too_large,
+                  "at most 2^31 - 1 points are supported, got " + std::to_string(count));
+    std::vector<Point2> host(count);
+    if (count == 0) return host;
+    require(points != VK_NULL_HANDLE, ErrorCode::invalid_argument, "the points buffer is null");
+    const VkDeviceSize bytes = VkDeviceSize(count) * sizeof(Point2);
+    std::lock_guard lock(context->mutex());
+    vk::Buffer& stage = staging_for(bytes);
+    vk::Recording rec(*context);
+    VkCommandBuffer commands = rec.commands();
+    // Everything submitted earlier to this queue that wrote memory, before our read.
+    VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    before.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
+    const VkBufferCopy region{offset, 0, bytes};
+    vkCmdCopyBuffer(commands, points, stage.handle(), 1, &region);
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
+                         1, &after, 0, nullptr, 0, nullptr);
+    rec.submit();
+    std::memcpy(host.data(), stage.mapped(), bytes);
+    return host;
+  }
+
+  // Writes the triangles (already known to fit) into the application's index buffer.
+  void write_indices(const std::vector<Triangle>& triangles, VkBuffer indices,
+                     VkDeviceSize indices_offset) {
+    if (triangles.empty()) return;
+    static_assert(sizeof(Triangle) == 3 * sizeof(std::uint32_t));
+    const VkDeviceSize bytes = VkDeviceSize(triangles.size()) * sizeof(Triangle);
+    std::lock_guard lock(context->mutex());
+    vk::Buffer& stage = staging_for(bytes);
+    std::memcpy(stage.mapped(), triangles.data(), bytes);  // non-negative int32 = uint32
+    vk::Recording rec(*context);
+    VkCommandBuffer commands = rec.commands();
+    const VkBufferCopy region{0, indices_offset, bytes};
+    vkCmdCopyBuffer(commands, stage.handle(), indices, 1, &region);
+    // Visible to everything submitted later to this queue (index reads included).
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &after, 0, nullptr, 0,
+                         nullptr);
+    rec.submit();
+  }
+
+  Mesh run(VkBuffer points, VkDeviceSize offset, std::size_t count, const Options& run_options) {
+    const auto start = Clock::now();
+    const std::vector<Point2> host = read_points(points, offset, count);
+    const double read_ms = ms_since(start);
+    Mesh mesh = detail::run_pipeline(*backend, run_options, host);
+    mesh.stats.stages.insert(mesh.stats.stages.begin(), {"vulkan interop: read points", read_ms});
+    mesh.stats.total_ms += read_ms;
+    return mesh;
+  }
+};
+
+Triangulator::Triangulator(const DeviceHandles& handles, const Options& options)
+    : impl_(std::make_unique<Impl>()) {
+  detail::require_exact_arithmetic();
+  require(handles.instance != VK_NULL_HANDLE && handles.physical_device != VK_NULL_HANDLE &&
+              handles.device != VK_NULL_HANDLE && handles.queue != VK_NULL_HANDLE,
+          ErrorCode::invalid_argument,
+          "DeviceHandles needs instance, physical_device, device and queue (one is null)");
+  impl_->options = options;
+  impl_->options.backend = BackendKind::vulkan;
+  impl_->instance = std::make_shared<vk::Instance>(handles.instance);
+  const vk::PhysicalDevice physical = check_device(*impl_->instance, handles);
+  impl_->context =
+      std::make_shared<vk::Context>(impl_->instance, physical, handles.device, handles.queue);
+  const std::string failure = vk::eft_self_test(*impl_->context);
+  require(failure.empty(), ErrorCode::backend_unavailable,
+          "device " + impl_->context->name() + " fails the exact-arithmetic self-test: " +
+              failure);
+  impl_->backend = vk::make_backend_on(impl_->context);
+}
+
+Triangulator::~Triangulator() = default;
+Triangulator::Triangulator(Triangulator&&) noexcept = default;
+Triangulator& Triangulator::operator=(Triangulator&&) noexcept = default;
+
+std::string Triangulator::device_name() const { return impl_->context->name(); }
+
+Mesh Triangulator::triangulate(VkBuffer points, VkDeviceSize offset, std::size_t count) {
+  return impl_->run(points, offset, count, impl_->options);
+}
+
+IndexBufferResult Triangulator::triangulate_to_index_buffer(VkBuffer points, VkDeviceSize offset,
+                                                            std::size_t count, VkBuffer indices,
+                                                            VkDeviceSize indices_offset,
+                                                            VkDeviceSize indices_capacity_bytes) {
+  Options run_options = impl_->options;
+  run_options.neighbors = false;  // an index buffer has no use for them
+  Mesh mesh = impl_->run(points, offset, count, run_options);
+  const std::size_t triangles = mesh.triangles.size();
+  const VkDeviceSize needed = VkDeviceSize(triangles) * sizeof(Triangle);
+  if (needed > indices_capacity_bytes)
+    throw Error(ErrorCode::too_large,
+                "Vulkan interop: the index buffer holds " +
+                    std::to_string(indices_capacity_bytes) + " bytes but the " +
+                    std::to_string(triangles) + " triangles need " + std::to_string(needed) +
+                    " bytes (max_index_buffer_bytes(" + std::to_string(count) +
+                    ") = " + std::to_string(max_index_buffer_bytes(count)) +
+                    " is always enough); nothing was written");
+  require(triangles == 0 || indices != VK_NULL_HANDLE, ErrorCode::invalid_argument,
+          "the index buffer is null");
+  const auto start = Clock::now();
+  impl_->write_indices(mesh.triangles, indices, indices_offset);
+  const double write_ms = ms_since(start);
+  IndexBufferResult result;
+  result.triangles = triangles;
+  result.bytes_written = needed;
+  result.stats = std::move(mesh.stats);
+  result.stats.stages.push_back({"vulkan interop: write indices", write_ms});
+  result.stats.total_ms += write_ms;
+  return result;
+}
+
+}  // namespace expanse::vulkan
