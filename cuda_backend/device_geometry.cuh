@@ -5,6 +5,7 @@
 // `uncertain` and the caller defers the work to the CPU seam stage.
 #include <cstdint>
 
+#include "device_compat.cuh"
 #include "predicates/exact_arith.hpp"
 
 namespace expanse::detail::cuda {
@@ -12,13 +13,13 @@ namespace expanse::detail::cuda {
 namespace ex = ::expanse::detail::exact;
 inline constexpr int kUncertain = ex::uncertain;
 
-__device__ __forceinline__ bool safe_point(double2 p) {
+EXPANSE_DEVICE_FORCE bool safe_point(double2 p) {
   return ex::in_safe_range(p.x) && ex::in_safe_range(p.y);
 }
 
 /// Exact orientation: filter, certificate, then (small) expansions. Only the expansion step
 /// needs coordinates in the safe range; outside it the answer is `uncertain`.
-__device__ inline int orient(double2 a, double2 b, double2 c) {
+EXPANSE_DEVICE int orient(double2 a, double2 b, double2 c) {
   int s = ex::orient2d_filter(a.x, a.y, b.x, b.y, c.x, c.y);
   if (s != kUncertain) return s;
   s = ex::orient2d_certified(a.x, a.y, b.x, b.y, c.x, c.y);
@@ -28,7 +29,7 @@ __device__ inline int orient(double2 a, double2 b, double2 c) {
   return kUncertain;
 }
 
-__device__ __forceinline__ bool lex_less(double2 p, double2 q) {
+EXPANSE_DEVICE_FORCE bool lex_less(double2 p, double2 q) {
   return p.x < q.x || (p.x == q.x && p.y < q.y);
 }
 
@@ -36,7 +37,7 @@ __device__ __forceinline__ bool lex_less(double2 p, double2 q) {
 /// CCW (a, b, c): +1 if d is inside the perturbed circle, -1 outside, or `uncertain`. The full
 /// incircle expansion needs ~40 KB of stack per thread, too much to reserve for every resident
 /// GPU thread, so an incircle that neither the filter nor the certificate decides is deferred.
-__device__ inline int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
+EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
   int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (s != 0) return s;  // a sign, or uncertain
@@ -84,24 +85,24 @@ struct GridView {
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
-  __device__ __forceinline__ static int upper_index(const double* bounds, int cells, double v) {
+  EXPANSE_DEVICE_FORCE static int upper_index(const double* bounds, int cells, double v) {
     // Largest j in [0, cells) with j == 0 or bounds[j] <= v.
     int lo = 0, hi = cells - 1;
     while (lo < hi) {
       const int m = (lo + hi + 1) >> 1;
-      if (__ldg(bounds + m) <= v) lo = m;
+      if (load_readonly(bounds + m) <= v) lo = m;
       else hi = m - 1;
     }
     return lo;
   }
-  __device__ __forceinline__ int cell_x(double x) const {
+  EXPANSE_DEVICE_FORCE int cell_x(double x) const {
     if (xb) return upper_index(xb, gx, x);
     const double t = ex::mul(ex::sub(x, min_x), inv_w);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gx - 1)) return gx - 1;
     return static_cast<int>(t);
   }
-  __device__ __forceinline__ int cell_y(double y) const {
+  EXPANSE_DEVICE_FORCE int cell_y(double y) const {
     if (yb) return upper_index(yb, gy, y);
     const double t = ex::mul(ex::sub(y, min_y), inv_h);
     if (!(t >= 0.0)) return 0;
@@ -109,10 +110,10 @@ struct GridView {
     return static_cast<int>(t);
   }
   // Conservative real bounds of a cell: every site bucketed into column x has lo <= p.x <= hi.
-  __device__ __forceinline__ void x_bounds(int x, double* lo, double* hi) const {
+  EXPANSE_DEVICE_FORCE void x_bounds(int x, double* lo, double* hi) const {
     if (xb) {
-      *lo = x == 0 ? min_x : __ldg(xb + x);
-      *hi = x == gx - 1 ? max_x : __ldg(xb + x + 1);
+      *lo = x == 0 ? min_x : load_readonly(xb + x);
+      *hi = x == gx - 1 ? max_x : load_readonly(xb + x + 1);
       return;
     }
     const double l = min_x + x * cell_w, h = min_x + (x + 1) * cell_w;
@@ -120,10 +121,10 @@ struct GridView {
     *lo = x == 0 ? min_x : l - slop;
     *hi = x == gx - 1 ? max_x : h + slop;
   }
-  __device__ __forceinline__ void y_bounds(int y, double* lo, double* hi) const {
+  EXPANSE_DEVICE_FORCE void y_bounds(int y, double* lo, double* hi) const {
     if (yb) {
-      *lo = y == 0 ? min_y : __ldg(yb + y);
-      *hi = y == gy - 1 ? max_y : __ldg(yb + y + 1);
+      *lo = y == 0 ? min_y : load_readonly(yb + y);
+      *hi = y == gy - 1 ? max_y : load_readonly(yb + y + 1);
       return;
     }
     const double l = min_y + y * cell_h, h = min_y + (y + 1) * cell_h;
@@ -134,7 +135,7 @@ struct GridView {
 };
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
-__device__ inline int compare_distance(double2 s, double2 p, double2 q) {
+EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {
   if (!(safe_point(s) && safe_point(p) && safe_point(q))) return kUncertain;
   const auto pdx = ex::exact_difference(p.x, s.x), pdy = ex::exact_difference(p.y, s.y);
   const auto qdx = ex::exact_difference(q.x, s.x), qdy = ex::exact_difference(q.y, s.y);
@@ -143,32 +144,34 @@ __device__ inline int compare_distance(double2 s, double2 p, double2 q) {
   return (dp - dq).sign();
 }
 
-__device__ __forceinline__ double dist2(double2 s, double2 p) {
+EXPANSE_DEVICE_FORCE double dist2(double2 s, double2 p) {
   const double dx = ex::sub(p.x, s.x), dy = ex::sub(p.y, s.y);
   return ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
 }
 
-/// Visits the cells of ring k (Chebyshev distance k from (cx, cy)) clipped to [x0,x1]x[y0,y1].
+/// Visits the cells of ring k (Chebyshev distance k from (cx, cy)) clipped to [x0,x1]x[y0,y1],
+/// row by row. One loop nest and one call of f: f is inlined once, so threads of a warp that are
+/// in different parts of their rings still run the same instructions (four call sites, one per
+/// side, made four copies of the whole search body for divergent threads to serialise over).
 template <class F>
-__device__ __forceinline__ void for_ring(int cx, int cy, int k, int x0, int x1, int y0, int y1, F&& f) {
+EXPANSE_DEVICE_FORCE void for_ring(int cx, int cy, int k, int x0, int x1, int y0, int y1, F&& f) {
   const int ylo = max(cy - k, y0), yhi = min(cy + k, y1);
-  const bool left = cx - k >= x0 && cx - k <= x1, right = k > 0 && cx + k >= x0 && cx + k <= x1;
   const int xlo = max(cx - k, x0), xhi = min(cx + k, x1);
-  if (cy - k >= y0 && cy - k <= y1)
-    for (int x = xlo; x <= xhi; ++x) f(x, cy - k);
-  if (left || right)  // only the side columns: no loop over rows when both lie outside
-    for (int y = max(cy - k + 1, y0); y <= min(cy + k - 1, y1); ++y) {
-      if (left) f(cx - k, y);
-      if (right) f(cx + k, y);
+  for (int y = ylo; y <= yhi; ++y) {
+    // Top and bottom rows whole; other rows only their two end cells (one when k == 0).
+    const bool edge_row = y == cy - k || y == cy + k;
+    const int step = edge_row ? 1 : max(1, 2 * k);
+    for (int x = edge_row ? xlo : cx - k; x <= xhi; x += step) {
+      if (x < x0) continue;
+      f(x, y);
     }
-  if (k > 0 && cy + k >= y0 && cy + k <= y1)
-    for (int x = xlo; x <= xhi; ++x) f(x, cy + k);
+  }
 }
 
 /// Exact nearest neighbour of sorted site `self` (ties between exactly equal distances go to
 /// the smaller index). Returns -1 with *ok = false when a comparison cannot be decided or the
 /// search spends more than `budget` units of work (cells + sites, counted in *work).
-__device__ inline int nearest_site(const GridView& g, int self, double2 s, bool* ok, unsigned* work = nullptr,
+EXPANSE_DEVICE int nearest_site(const GridView& g, int self, double2 s, bool* ok, unsigned* work = nullptr,
                                    unsigned budget = 0xffffffffu) {
   const int cx = g.cell_x(s.x), cy = g.cell_y(s.y);
   unsigned local_work = 0;
@@ -236,7 +239,59 @@ struct CircleRegion {
   double ox, oy, reach;
 };
 
-__device__ inline bool circle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
+/// The disc with diameter a-b, when c provably sees a-b at an obtuse angle: then every point of
+/// circle(a, b, c) ∩ left half-plane (the minor segment) sees a-b at an angle at least as wide,
+/// so it lies in this disc (Thales). Hull-hugging slivers of uniform inputs are this case: their
+/// circumcircles are huge and, with rounding margins, their boxes spanned the whole grid.
+EXPANSE_DEVICE bool thales_region(double2 a, double2 b, double2 c, CircleRegion* out) {
+  constexpr double eps = ex::epsilon;
+  const double acx = a.x - c.x, acy = a.y - c.y, bcx = b.x - c.x, bcy = b.y - c.y;
+  const double dot = acx * bcx + acy * bcy;
+  const double lac = sqrt(acx * acx + acy * acy), lbc = sqrt(bcx * bcx + bcy * bcy);
+  const double scale = fabs(a.x) + fabs(a.y) + fabs(b.x) + fabs(b.y) + fabs(c.x) + fabs(c.y);
+  if (!(dot < -(1e-6 * lac * lbc + 16.0 * eps * scale * (lac + lbc)))) return false;
+  const double bx = b.x - a.x, by = b.y - a.y;
+  const double half = 0.5 * sqrt(bx * bx + by * by);
+  const double ox = 0.5 * a.x + 0.5 * b.x, oy = 0.5 * a.y + 0.5 * b.y;
+  const double reach = half * (1.0 + 1e-6) + 8.0 * eps * (fabs(ox) + fabs(oy) + half) + 1e-300;
+  if (!isfinite(reach)) return false;
+  out->ox = ox;
+  out->oy = oy;
+  out->reach = reach;
+  out->x_lo = ox - reach;
+  out->x_hi = ox + reach;
+  out->y_lo = oy - reach;
+  out->y_hi = oy + reach;
+  return true;
+}
+
+/// circle(a, b, c) ∩ left half-plane bounded by the circumcircle's cap (below) and, where it
+/// applies, by the Thales disc; both are supersets of the region, so their boxes intersect and
+/// the smaller disc is kept.
+EXPANSE_DEVICE bool circumcircle_region(double2 a, double2 b, double2 c, CircleRegion* out);
+
+EXPANSE_DEVICE bool circle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
+  CircleRegion cap, thales;
+  const bool has_cap = circumcircle_region(a, b, c, &cap);
+  const bool has_thales = thales_region(a, b, c, &thales);
+  if (!has_cap && !has_thales) return false;
+  if (!has_thales) {
+    *out = cap;
+    return true;
+  }
+  if (!has_cap) {
+    *out = thales;
+    return true;
+  }
+  *out = cap.reach <= thales.reach ? cap : thales;
+  out->x_lo = fmax(cap.x_lo, thales.x_lo);
+  out->x_hi = fmin(cap.x_hi, thales.x_hi);
+  out->y_lo = fmax(cap.y_lo, thales.y_lo);
+  out->y_hi = fmin(cap.y_hi, thales.y_hi);
+  return true;
+}
+
+EXPANSE_DEVICE bool circumcircle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
   constexpr double eps = ex::epsilon;
   const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
   const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
@@ -304,7 +359,7 @@ __device__ inline bool circle_region(double2 a, double2 b, double2 c, CircleRegi
 }
 
 /// The box part of circle_region (the block layout's acceptance test).
-__device__ inline bool cap_box(double2 a, double2 b, double2 c, double* x_lo, double* x_hi,
+EXPANSE_DEVICE bool cap_box(double2 a, double2 b, double2 c, double* x_lo, double* x_hi,
                                double* y_lo, double* y_hi) {
   CircleRegion r;
   if (!circle_region(a, b, c, &r)) return false;
@@ -325,7 +380,7 @@ enum ApexStatus : int { apex_found = 0, apex_none = 1, apex_uncertain = 2 };
 /// covers the region box. Candidate ids are indices into g.points.
 /// *predicates counts the orient2d and incircle evaluations (for the benchmark's floor count);
 /// *work counts cells + sites visited; past `budget` the search gives up (apex_uncertain).
-__device__ inline int find_apex(const GridView& g, int ia, double2 a, int ib, double2 b, int* status,
+EXPANSE_DEVICE int find_apex(const GridView& g, int ia, double2 a, int ib, double2 b, int* status,
                                 unsigned* predicates, unsigned* work, unsigned budget) {
   const double2 mid = make_double2(0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y);
   const int mx = g.cell_x(mid.x), my = g.cell_y(mid.y);

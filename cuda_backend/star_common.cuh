@@ -6,25 +6,27 @@
 
 namespace expanse::detail::cuda {
 
-/// Stars hold at most this many neighbours; a site with more defers (the seam stage makes its
-/// triangles). Uniform Poisson points reach degree 17 about once in 10^6 sites.
-inline constexpr int kStar = 16;
+/// Stars hold at most this many neighbours (a power of two); a site with more defers (the seam
+/// stage makes its triangles). 16 was too few: sites on the flat hull sides of uniform inputs
+/// fan out to many hull-hugging neighbours, and 14 of 10^6 uniform sites deferred, each deferral
+/// sending the whole pipeline through the seam stage (counted with bench/src/star_work.cpp).
+inline constexpr int kStar = 32;
 inline constexpr std::uint32_t kClosedBit = 1u << 16;
 inline constexpr std::uint32_t kDeferredBit = 1u << 17;
 
-__device__ __forceinline__ int star_degree(std::uint32_t info) { return static_cast<int>(info & 255u); }
-__device__ __forceinline__ int star_start(std::uint32_t info) { return static_cast<int>((info >> 8) & 255u); }
-__device__ __forceinline__ bool star_closed(std::uint32_t info) { return (info & kClosedBit) != 0; }
-__device__ __forceinline__ bool star_deferred(std::uint32_t info) { return (info & kDeferredBit) != 0; }
+EXPANSE_DEVICE_FORCE int star_degree(std::uint32_t info) { return static_cast<int>(info & 255u); }
+EXPANSE_DEVICE_FORCE int star_start(std::uint32_t info) { return static_cast<int>((info >> 8) & 255u); }
+EXPANSE_DEVICE_FORCE bool star_closed(std::uint32_t info) { return (info & kClosedBit) != 0; }
+EXPANSE_DEVICE_FORCE bool star_deferred(std::uint32_t info) { return (info & kDeferredBit) != 0; }
 
 /// t-th neighbour of site o in CCW order (t may be -1 or deg for closed stars: wraps).
-__device__ __forceinline__ int star_at(const int* star, std::uint32_t info, int o, int t) {
+EXPANSE_DEVICE_FORCE int star_at(const int* star, std::uint32_t info, int o, int t) {
   const int deg = star_degree(info);
   t = (t % deg + deg) % deg;
   return star[static_cast<std::size_t>(o) * kStar + ((star_start(info) + t) & (kStar - 1))];
 }
 
-__device__ __forceinline__ int star_find(const int* star, std::uint32_t info, int o, int u) {
+EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, int u) {
   const int deg = star_degree(info);
   for (int t = 0; t < deg; ++t)
     if (star_at(star, info, o, t) == u) return t;
@@ -33,7 +35,7 @@ __device__ __forceinline__ int star_find(const int* star, std::uint32_t info, in
 
 /// Index of the CCW triangle (x, y, z) in the output: its owner is its smallest vertex, and the
 /// owner numbers its own triangles in star order from offset[owner]. -1 if the owner deferred.
-__device__ inline int triangle_index(const int* star, const std::uint32_t* info, const int* offset,
+EXPANSE_DEVICE int triangle_index(const int* star, const std::uint32_t* info, const int* offset,
                                      int x, int y, int z) {
   int o = x, u = y, w = z;
   if (y < o && y < z) {

@@ -18,36 +18,11 @@
 #include <cstring>
 
 #include "cuda_internal.hpp"
-#include "star_common.cuh"
+#include "star_grid.hpp"
+#include "star_walk.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
-
-struct GridShape {
-  double min_x, min_y, inv_w, inv_h, cell_w, cell_h;
-  int gx, gy;
-};
-
-GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per_bucket) {
-  GridShape s{};
-  const double w = box.max_x - box.min_x, h = box.max_y - box.min_y;
-  const double cells = std::max(1.0, static_cast<double>(n) / std::max(0.25, sites_per_bucket));
-  double side = std::sqrt(std::max(w, 1e-300) * std::max(h, 1e-300) / cells);
-  if (!(side > 0.0)) side = std::max(w, h);
-  auto count = [&](double extent) {
-    const double c = std::ceil(extent / side);
-    return static_cast<int>(std::clamp(c, 1.0, 16384.0));
-  };
-  s.gx = count(w);
-  s.gy = count(h);
-  s.min_x = box.min_x;
-  s.min_y = box.min_y;
-  s.inv_w = w > 0 ? s.gx / w : 0.0;
-  s.inv_h = h > 0 ? s.gy / h : 0.0;
-  s.cell_w = w > 0 ? w / s.gx : 1.0;
-  s.cell_h = h > 0 ? h / s.gy : 1.0;
-  return s;
-}
 
 __global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::uint32_t* keys, int* ids) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -86,15 +61,7 @@ __global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank,
 __global__ void sample_kernel(const double2* points, int n, int samples, double* xs, double* ys) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= samples) return;
-  int j = i;
-  if (samples < n) {
-    std::uint64_t z = static_cast<std::uint64_t>(i) + 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    j = static_cast<int>(z % static_cast<std::uint64_t>(n));
-  }
-  const double2 p = points[j];
+  const double2 p = points[quantile_sample_site(i, n, samples)];
   xs[i] = p.x;
   ys[i] = p.y;
 }
@@ -103,12 +70,7 @@ __global__ void sample_kernel(const double2* points, int n, int samples, double*
 __global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j > cells) return;
-  if (j == 0 || j == cells) {
-    bounds[j] = 0.0;  // never read
-    return;
-  }
-  const long long k = static_cast<long long>(j) * samples / cells;
-  bounds[j] = sorted[k < samples ? k : samples - 1];
+  bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
 }
 
 __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, int n, int* star,
@@ -116,44 +78,9 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
                                                    unsigned int* counters, unsigned budget) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  const double2 s = g.points[i];
   int* row = star + static_cast<std::size_t>(i) * kStar;
-  bool ok = true;
-  unsigned predicates = 0, cells = 0;  // cells: work units (cells + sites visited)
-  const int v0 = nearest_site(g, i, s, &ok, &cells, budget);
-  ok = ok && v0 >= 0;
-  int deg = 0, m = 0;
-  bool closed = false;
-  if (ok) {
-    // Counter-clockwise: (s, v, apex(s->v)) until the star closes or s->v is an outer edge.
-    row[0] = v0;
-    deg = 1;
-    const int ps = pred[i];
-    int v = v0;
-    while (ps != v) {
-      int status;
-      const int c = find_apex(g, i, s, v, g.points[v], &status, &predicates, &cells, budget);
-      if (status != apex_found) { ok = false; break; }
-      if (c == v0) { closed = true; break; }
-      if (deg + m >= kStar) { ok = false; break; }
-      row[deg++] = c;
-      v = c;
-    }
-  }
-  if (ok && !closed) {
-    // Clockwise from v0: (v, s, apex(v->s)); stored from the row's end so that the star reads
-    // counter-clockwise starting at index kStar - m, wrapping.
-    int v = v0;
-    while (pred[v] != i) {
-      int status;
-      const int c = find_apex(g, v, g.points[v], i, s, &status, &predicates, &cells, budget);
-      if (status != apex_found || c == v0) { ok = false; break; }
-      if (deg + m >= kStar) { ok = false; break; }
-      row[kStar - 1 - m] = c;
-      ++m;
-      v = c;
-    }
-  }
+  const StarWalk w = walk_star(g, pred, i, row, budget);
+  const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count; the deferred count is rare.
   const unsigned active = __activemask();
   const unsigned warp_total = __reduce_add_sync(active, predicates);
@@ -164,24 +91,15 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
   }
   if (cells > 4096) atomicAdd(counters + 5, 1u);
   if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
-  if (!ok) {
+  if (!w.ok) {
     info[i] = kDeferredBit;
     owned[i] = 0;
     atomicAdd(counters, 1u);
     return;
   }
-  const int total = deg + m;
-  const std::uint32_t inf = static_cast<std::uint32_t>(total) |
-                            (static_cast<std::uint32_t>((kStar - m) & (kStar - 1)) << 8) |
-                            (closed ? kClosedBit : 0u);
+  const std::uint32_t inf = star_info(w);
   info[i] = inf;
-  const int tris = closed ? total : total - 1;
-  int count = 0;
-  for (int t = 0; t < tris; ++t) {
-    const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
-    count += (i < a && i < b);
-  }
-  owned[i] = count;
+  owned[i] = owned_triangles(star, inf, i);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -288,7 +206,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   const bool quantile = !(grid_env && std::strcmp(grid_env, "uniform") == 0) && n >= 64;
   const char* budget_env = std::getenv("EXPANSE_CUDA_BUDGET");
   const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10)) : (1u << 14);
-  const int samples = static_cast<int>(std::min<std::size_t>(n, std::size_t{1} << 18));
+  const int samples = quantile_sample_count(n);
   DeviceArray<double> d_xb(quantile ? shape.gx + 1 : 0, stream), d_yb(quantile ? shape.gy + 1 : 0, stream);
   DeviceArray<double> d_sx(quantile ? samples : 0, stream), d_sy(quantile ? samples : 0, stream);
   DeviceArray<double> d_sx2(quantile ? samples : 0, stream), d_sy2(quantile ? samples : 0, stream);
@@ -303,17 +221,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
     EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, qsort_bytes, d_sx.get(), d_sx2.get(), samples, 0, 64, stream));
   DeviceArray<unsigned char> d_temp(std::max({sort_bytes, scan_bytes, qsort_bytes}), stream);
 
-  GridView g{};
-  g.min_x = shape.min_x;
-  g.min_y = shape.min_y;
-  g.inv_w = shape.inv_w;
-  g.inv_h = shape.inv_h;
-  g.cell_w = shape.cell_w;
-  g.cell_h = shape.cell_h;
-  g.gx = shape.gx;
-  g.gy = shape.gy;
-  g.max_x = input.sites.bounds.max_x;
-  g.max_y = input.sites.bounds.max_y;
+  GridView g = make_grid_view(shape, input.sites.bounds);
 
   timer.begin("bucket");
   if (quantile) {

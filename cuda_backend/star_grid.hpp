@@ -1,0 +1,79 @@
+#pragma once
+// The per-site layout's bucket grid, as host code shared by star_kernels.cu (which builds it on
+// the device) and star_host.hpp (which builds the same grid on the CPU for tests and work
+// counts): its shape, the sample behind the quantile boundaries, and the boundaries themselves.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "device_geometry.cuh"
+#include "input/site_set.hpp"
+
+namespace expanse::detail::cuda {
+
+struct GridShape {
+  double min_x, min_y, inv_w, inv_h, cell_w, cell_h;
+  int gx, gy;
+};
+
+/// Square-ish cells over the sites' box, about sites_per_bucket sites per cell on average.
+inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per_bucket) {
+  GridShape s{};
+  const double w = box.max_x - box.min_x, h = box.max_y - box.min_y;
+  const double cells = std::max(1.0, static_cast<double>(n) / std::max(0.25, sites_per_bucket));
+  double side = std::sqrt(std::max(w, 1e-300) * std::max(h, 1e-300) / cells);
+  if (!(side > 0.0)) side = std::max(w, h);
+  auto count = [&](double extent) {
+    const double c = std::ceil(extent / side);
+    return static_cast<int>(std::clamp(c, 1.0, 16384.0));
+  };
+  s.gx = count(w);
+  s.gy = count(h);
+  s.min_x = box.min_x;
+  s.min_y = box.min_y;
+  s.inv_w = w > 0 ? s.gx / w : 0.0;
+  s.inv_h = h > 0 ? s.gy / h : 0.0;
+  s.cell_w = w > 0 ? w / s.gx : 1.0;
+  s.cell_h = h > 0 ? h / s.gy : 1.0;
+  return s;
+}
+
+/// GridView of a shape over the sites' box (pointers left for the caller to set).
+inline GridView make_grid_view(const GridShape& shape, const Box& box) {
+  GridView g{};
+  g.min_x = shape.min_x;
+  g.min_y = shape.min_y;
+  g.inv_w = shape.inv_w;
+  g.inv_h = shape.inv_h;
+  g.cell_w = shape.cell_w;
+  g.cell_h = shape.cell_h;
+  g.gx = shape.gx;
+  g.gy = shape.gy;
+  g.max_x = box.max_x;
+  g.max_y = box.max_y;
+  return g;
+}
+
+/// How many coordinates the quantile boundaries are taken from.
+inline int quantile_sample_count(std::size_t n) {
+  return static_cast<int>(std::min<std::size_t>(n, std::size_t{1} << 18));
+}
+
+/// The site behind sample i: a hashed index, so that ordered inputs (row-major grids) do not alias.
+EXPANSE_HOST_DEVICE int quantile_sample_site(int i, int n, int samples) {
+  if (samples >= n) return i;
+  std::uint64_t z = static_cast<std::uint64_t>(i) + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<int>(z % static_cast<std::uint64_t>(n));
+}
+
+/// Boundary j (1 .. cells - 1) from the sorted sample: its (j / cells)-quantile.
+EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, int cells, int j) {
+  const long long k = static_cast<long long>(j) * samples / cells;
+  return sorted[k < samples ? k : samples - 1];
+}
+
+}  // namespace expanse::detail::cuda

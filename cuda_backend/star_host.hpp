@@ -1,0 +1,170 @@
+#pragma once
+// The CUDA backend's per-site layout run on the CPU: the same grid (star_grid.hpp) and the same
+// star walk (star_walk.cuh), one site after another. Used by tests and by the work count
+// (bench/src/star_work.cpp) on machines without a GPU; the backend itself never calls it.
+#if defined(__CUDACC__)
+#error "star_host.hpp is host code: include it from C++ translation units only"
+#endif
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <thread>
+#include <vector>
+
+#include "expanse/types.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "star_grid.hpp"
+#include "star_walk.cuh"
+
+namespace expanse::detail::cuda {
+
+/// What the star kernel's counters say, summed over every site.
+struct StarWorkTotals {
+  std::uint64_t sites = 0;
+  std::uint64_t deferred = 0;
+  std::uint64_t predicates = 0;
+  std::uint64_t work = 0;            ///< cells + sites visited, all sites
+  std::uint64_t max_work = 0;        ///< the most one site spent
+  std::uint64_t sites_over_4096 = 0;
+  std::uint64_t sites_over_budget = 0;
+  std::uint64_t deferred_undecided = 0;  ///< by reason (DeferReason); budget overruns count here
+  std::uint64_t deferred_full_row = 0;
+  std::uint64_t deferred_no_apex = 0;
+};
+
+class HostStarLayout {
+ public:
+  /// Buckets the sites exactly as grow_per_site does (quantile boundaries from the same hashed
+  /// sample, stable sort by cell), ready to walk.
+  HostStarLayout(const SiteSet& sites, const Hull& hull, double sites_per_bucket, bool quantile) {
+    const std::size_t n = sites.points.size();
+    const GridShape shape = make_grid_shape(sites.bounds, n, sites_per_bucket);
+    grid_ = make_grid_view(shape, sites.bounds);
+    if (quantile) {
+      const int samples = quantile_sample_count(n);
+      std::vector<double> xs(samples), ys(samples);
+      for (int i = 0; i < samples; ++i) {
+        const Point2 p = sites.points[quantile_sample_site(i, static_cast<int>(n), samples)];
+        xs[i] = p.x;
+        ys[i] = p.y;
+      }
+      std::sort(xs.begin(), xs.end());
+      std::sort(ys.begin(), ys.end());
+      xb_.assign(shape.gx + 1, 0.0);
+      yb_.assign(shape.gy + 1, 0.0);
+      for (int j = 1; j < shape.gx; ++j) xb_[j] = quantile_boundary(xs.data(), samples, shape.gx, j);
+      for (int j = 1; j < shape.gy; ++j) yb_[j] = quantile_boundary(ys.data(), samples, shape.gy, j);
+      grid_.xb = xb_.data();
+      grid_.yb = yb_.data();
+    }
+    std::vector<std::uint32_t> keys(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point2 p = sites.points[i];
+      keys[i] = static_cast<std::uint32_t>(grid_.cell_y(p.y) * grid_.gx + grid_.cell_x(p.x));
+    }
+    to_site_.resize(n);
+    std::iota(to_site_.begin(), to_site_.end(), 0);
+    std::stable_sort(to_site_.begin(), to_site_.end(), [&](int a, int b) { return keys[a] < keys[b]; });
+    std::vector<int> rank(n);
+    points_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      rank[to_site_[i]] = static_cast<int>(i);
+      points_[i] = make_double2(sites.points[to_site_[i]].x, sites.points[to_site_[i]].y);
+    }
+    const std::size_t cells = static_cast<std::size_t>(shape.gx) * shape.gy;
+    cell_start_.assign(cells + 1, 0);
+    for (std::uint32_t key : keys) ++cell_start_[key + 1];
+    std::partial_sum(cell_start_.begin(), cell_start_.end(), cell_start_.begin());
+    pred_.assign(n, -1);
+    const std::size_t h = hull.sites.size();
+    for (std::size_t t = 0; t < h; ++t) pred_[rank[hull.sites[t]]] = rank[hull.sites[t == 0 ? h - 1 : t - 1]];
+    grid_.points = points_.data();
+    grid_.cell_start = cell_start_.data();
+  }
+
+  /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET), spread over
+  /// `threads` host threads; the result does not depend on their number.
+  StarWorkTotals walk_all(unsigned budget = 1u << 14, unsigned threads = 1) {
+    const std::size_t n = points_.size();
+    star_.assign(n * kStar, -1);
+    info_.assign(n, 0);
+    threads = std::max(1u, threads);
+    std::vector<StarWorkTotals> part(threads);
+    auto walk_range = [&](unsigned p) {
+      StarWorkTotals& totals = part[p];
+      for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
+        const StarWalk w = walk_star(grid_, pred_.data(), static_cast<int>(i), star_.data() + i * kStar, budget);
+        ++totals.sites;
+        totals.predicates += w.predicates;
+        totals.work += w.work;
+        totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
+        totals.sites_over_4096 += w.work > 4096;
+        totals.sites_over_budget += w.work > budget;
+        if (!w.ok) {
+          info_[i] = kDeferredBit;
+          ++totals.deferred;
+          totals.deferred_undecided += w.reason == DeferReason::undecided;
+          totals.deferred_full_row += w.reason == DeferReason::full_row;
+          totals.deferred_no_apex += w.reason == DeferReason::no_apex;
+          continue;
+        }
+        info_[i] = star_info(w);
+      }
+    };
+    std::vector<std::thread> workers;
+    for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
+    walk_range(0);
+    for (auto& worker : workers) worker.join();
+    StarWorkTotals totals;
+    for (const StarWorkTotals& t : part) {
+      totals.sites += t.sites;
+      totals.deferred += t.deferred;
+      totals.predicates += t.predicates;
+      totals.work += t.work;
+      totals.max_work = std::max(totals.max_work, t.max_work);
+      totals.sites_over_4096 += t.sites_over_4096;
+      totals.sites_over_budget += t.sites_over_budget;
+      totals.deferred_undecided += t.deferred_undecided;
+      totals.deferred_full_row += t.deferred_full_row;
+      totals.deferred_no_apex += t.deferred_no_apex;
+    }
+    return totals;
+  }
+
+  /// The triangles the emit kernel would write after walk_all(), in site ids.
+  std::vector<Triangle> owned_triangles_in_site_ids() const {
+    std::vector<Triangle> out;
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      const std::uint32_t inf = info_[i];
+      if (star_deferred(inf)) continue;
+      const int o = static_cast<int>(i);
+      const int deg = star_degree(inf);
+      const int tris = star_closed(inf) ? deg : deg - 1;
+      for (int t = 0; t < tris; ++t) {
+        const int a = star_at(star_.data(), inf, o, t), b = star_at(star_.data(), inf, o, t + 1);
+        if (o < a && o < b) out.push_back({to_site_[o], to_site_[a], to_site_[b]});
+      }
+    }
+    return out;
+  }
+
+  /// Indexed by SiteSet id: whether that site's star deferred.
+  std::vector<bool> deferred_sites() const {
+    std::vector<bool> out(points_.size());
+    for (std::size_t i = 0; i < points_.size(); ++i) out[to_site_[i]] = star_deferred(info_[i]);
+    return out;
+  }
+
+ private:
+  GridView grid_{};
+  std::vector<double2> points_;
+  std::vector<int> to_site_;
+  std::vector<std::uint32_t> cell_start_;
+  std::vector<double> xb_, yb_;
+  std::vector<int> pred_;
+  std::vector<int> star_;
+  std::vector<std::uint32_t> info_;
+};
+
+}  // namespace expanse::detail::cuda

@@ -1,0 +1,102 @@
+#pragma once
+// One site's star, walked as the per-site kernel does it: the nearest site first, then apex
+// after apex counter-clockwise until the star closes or meets the hull, then clockwise from the
+// nearest site. Shared by star_kernel (one thread per site) and by the host tests and work
+// counts that run the same code on the CPU (device_compat.cuh).
+#include "star_common.cuh"
+
+namespace expanse::detail::cuda {
+
+/// Why a site's star deferred to the seam stage.
+enum class DeferReason : unsigned char {
+  none,
+  undecided,  ///< a predicate the device filters could not decide, or the work budget ran out
+  full_row,   ///< more than kStar neighbours
+  no_apex,    ///< a search found nothing (cannot happen for an edge that is not a hull edge)
+};
+
+struct StarWalk {
+  bool ok = false;       ///< false: the site defers (see reason)
+  DeferReason reason = DeferReason::undecided;
+  bool closed = false;   ///< the star goes all the way round
+  int ccw = 0;           ///< neighbours stored from the row's start, counter-clockwise
+  int cw = 0;            ///< neighbours stored from the row's end, clockwise from the first
+  unsigned predicates = 0;
+  unsigned work = 0;     ///< cells + sites visited
+};
+
+/// Walks the star of sorted site i into row[0 .. kStar): the counter-clockwise part from index 0
+/// up, the clockwise part from the end down, so the row read from index kStar - cw on, wrapping,
+/// is the whole star counter-clockwise. pred[v] is v's hull predecessor (or -1).
+EXPANSE_DEVICE StarWalk walk_star(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+  StarWalk w;
+  const double2 s = g.points[i];
+  bool ok = true;
+  const int v0 = nearest_site(g, i, s, &ok, &w.work, budget);
+  if (!ok) return w;
+  if (v0 < 0) {
+    w.reason = DeferReason::no_apex;
+    return w;
+  }
+  // Counter-clockwise: (s, v, apex(s->v)) until the star closes or s->v is an outer edge; then,
+  // if it met the hull, clockwise from v0: (v, s, apex(v->s)). One loop and one find_apex call
+  // for both directions, so the search is inlined once.
+  row[0] = v0;
+  w.ccw = 1;
+  bool clockwise = false;
+  int v = v0;
+  for (;;) {
+    if (!clockwise && pred[i] == v) {
+      clockwise = true;  // s->v is an outer edge: the rest lies clockwise from v0
+      v = v0;
+    }
+    if (clockwise && pred[v] == i) break;  // v->s is an outer edge: the star is complete
+    const int from = clockwise ? v : i, to = clockwise ? i : v;
+    int status;
+    const int c = find_apex(g, from, g.points[from], to, g.points[to], &status, &w.predicates, &w.work, budget);
+    if (status != apex_found) {
+      if (status == apex_none) w.reason = DeferReason::no_apex;
+      return w;
+    }
+    if (c == v0) {
+      if (clockwise) {
+        w.reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+        return w;
+      }
+      w.closed = true;
+      break;
+    }
+    if (w.ccw + w.cw >= kStar) {
+      w.reason = DeferReason::full_row;
+      return w;
+    }
+    if (clockwise)
+      row[kStar - 1 - w.cw++] = c;
+    else
+      row[w.ccw++] = c;
+    v = c;
+  }
+  w.ok = true;
+  w.reason = DeferReason::none;
+  return w;
+}
+
+/// The packed per-site info of a finished walk (star_common.cuh).
+EXPANSE_DEVICE_FORCE std::uint32_t star_info(const StarWalk& w) {
+  return static_cast<std::uint32_t>(w.ccw + w.cw) | (static_cast<std::uint32_t>((kStar - w.cw) & (kStar - 1)) << 8) |
+         (w.closed ? kClosedBit : 0u);
+}
+
+/// Triangles of site i's star that i owns (it is their smallest vertex).
+EXPANSE_DEVICE int owned_triangles(const int* star, std::uint32_t info, int i) {
+  const int deg = star_degree(info);
+  const int tris = star_closed(info) ? deg : deg - 1;
+  int count = 0;
+  for (int t = 0; t < tris; ++t) {
+    const int a = star_at(star, info, i, t), b = star_at(star, info, i, t + 1);
+    count += (i < a && i < b);
+  }
+  return count;
+}
+
+}  // namespace expanse::detail::cuda
