@@ -7,7 +7,17 @@ install(TARGETS expanse EXPORT expanseTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY engine/include/expanse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# The interop headers mention device API types: each is installed only with its backend.
+install(DIRECTORY engine/include/expanse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        PATTERN "*_interop.hpp" EXCLUDE)
+if(EXPANSE_WITH_VULKAN)
+  install(FILES engine/include/expanse/vulkan_interop.hpp
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/expanse)
+endif()
+if(EXPANSE_WITH_CUDA)
+  install(FILES engine/include/expanse/cuda_interop.hpp
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/expanse)
+endif()
 if(TARGET expanse_cli)
   install(TARGETS expanse_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
