@@ -405,6 +405,40 @@ def iterations_section(records, docs):
     return "\n".join(out) if out else NOT_MEASURED
 
 
+def star_work_section(records):
+    """The CUDA per-site kernel's work, counted on the CPU (bench/src/star_work.cpp)."""
+    by_host = defaultdict(dict)
+    for r in records:
+        if r.get("experiment") != "star_work":
+            continue
+        key = (r["distribution"], r["n"], r.get("grid", ""), r.get("budget", 0))
+        kept = by_host[host(r)]
+        if key not in kept or r.get("run_id", "") > kept[key].get("run_id", ""):
+            kept[key] = r
+    out = []
+    for hostname, kept in sorted(by_host.items()):
+        run = sorted(kept.values(), key=lambda r: (dist_order((r["distribution"], r["n"])), r.get("grid", "")))
+        first = run[0]
+        machine = first.get("machine", {})
+        dates = sorted(r.get("date", "") for r in run)
+        commits = sorted({r.get("commit", "unknown") for r in run})
+        out.append(f"### {hostname}\n\nCounted on **{hostname}** ({machine.get('cpu', '?')}), "
+                   f"{dates[0][:10]}, commit `{', '.join(commits)}`. Counts, not times: they do "
+                   f"not depend on the machine or its load.\n")
+        rows = []
+        for r in run:
+            reasons = [f"{r[k]} {name}" for k, name in (("deferred_undecided", "undecided/budget"),
+                                                          ("deferred_full_row", "full row"),
+                                                          ("deferred_no_apex", "no apex")) if r.get(k)]
+            share = r["deferred"] / r["sites"] if r["sites"] else 0.0
+            rows.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), f"{r['predicates_per_site']:.1f}",
+                         f"{r['work_per_site']:.1f}", f"{r['max_work']:,}", f"{r['sites_over_4096']:,}",
+                         f"{r['deferred']:,} ({share:.3%})" + (f": {', '.join(reasons)}" if reasons else "")])
+        out.append(table(["distribution", "n", "grid", "predicates / site", "cells + sites / site",
+                          "max one site", "sites > 4096", "sites deferred"], rows))
+    return "\n".join(out) if out else NOT_MEASURED
+
+
 def picture_file(r):
     """The picture a record names, also when its results folder was made on another machine
     and copied here (the record holds that machine's absolute path)."""
@@ -488,6 +522,7 @@ def main():
         "FIG_IV3": scaling_section(records, docs, "gaussian", "Fig. IV.3"),
         "ITERATIONS": iterations_section(records, docs),
         "PICTURES": pictures_section(records, docs),
+        "STAR_WORK": star_work_section(records),
     }
     text = Path(args.template).read_text()
     for key, body in sections.items():

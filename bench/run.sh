@@ -10,7 +10,7 @@
 # Options:
 #   --build-dir DIR       build tree (configured here if it has none; default: build-bench)
 #   --no-build            use the programs already built in --build-dir
-#   --experiments LIST    comma list of peers,threads,scaling,pictures (default: all)
+#   --experiments LIST    comma list of peers,threads,scaling,pictures,star_work (default: all)
 #   --gpu LIST            GPU backends to try (default: vulkan,cuda; missing ones are skipped
 #                         with a record that says why)
 #   --dist LIST           distributions for peers/scaling/pictures (default: uniform,gaussian)
@@ -31,7 +31,7 @@ mode=""
 build_dir="$root/build-bench"
 build=1
 report=1
-experiments="peers,threads,scaling,pictures"
+experiments="peers,threads,scaling,pictures,star_work"
 gpu="vulkan,cuda"
 results=""
 note=""
@@ -71,9 +71,10 @@ if [[ $build -eq 1 ]]; then
     cmake -S "$root" -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
       -DEXPANSE_BUILD_BENCH=ON
   fi
-  cmake --build "$build_dir" --target expanse_bench expanse_bench_peers -j"$(nproc)"
+  cmake --build "$build_dir" --target expanse_bench expanse_bench_peers expanse_bench_star_work -j"$(nproc)"
 fi
 bench="$build_dir/bench/expanse-bench"
+star_work="$build_dir/bench/expanse-bench-star-work"
 peers="$build_dir/bench/expanse-bench-peers"
 
 # delaunator comes from npm at bench time; without network the records say it was skipped.
@@ -118,6 +119,12 @@ run() {  # run EXPERIMENT ARGS...: one expanse-bench invocation appending to EXP
 
 has() { [[ ",$experiments," == *",$1,"* ]]; }
 
+count_star_work() {  # the CUDA kernel's work counted on the CPU (bench/src/star_work.cpp)
+  echo "== star_work" >&2
+  timeout --kill-after=10 "$timeout_s" "$star_work" --note "$note" -o "$results/star_work.jsonl" "$@" ||
+    { echo "run.sh: experiment star_work failed" >&2; failed+=(star_work); }
+}
+
 count() {  # count 4096^2 | 1e6 | 1000: the number of points a size stands for
   local s="$1"
   if [[ $s == *^* ]]; then echo $(( ${s%^*} ** ${s#*^} ))
@@ -144,6 +151,7 @@ if [[ $mode == quick ]]; then
     -n "$(sizes 32^2,64^2,128^2)" --layouts default,paper --warmup 1 -r 3 --max-seconds 1
   has pictures && run pictures --backends "$gpu,cpu" --dist "$dists" -n "$(sizes 32^2)" \
     --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
+  has star_work && count_star_work --dist uniform,gaussian,kuzmin --n "$(sizes 1e4)"
 else
   has peers && run peers --backends "$gpu_and_cpu,cgal,qhull,delaunator" \
     --dist "$dists" -n "$(sizes 1e4,1e5,1e6)" --layouts default,paper --warmup 1 -r 5 \
@@ -155,6 +163,8 @@ else
   has scaling && run scaling --backends "$gpu_and_cpu,cgal" --dist "$dists" \
     -n "$(sizes 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2)" --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 30
+  # Counts, not times: any machine gives the same numbers.
+  has star_work && count_star_work --dist uniform,gaussian,kuzmin,grid --n "$(sizes 1e6,4e6)"
   # Only device backends: the CPU backend's picture would be all seam.
   has pictures && [[ -n "$gpu" ]] && run pictures --backends "$gpu" --dist "$dists" \
     -n "$(sizes 32^2)" --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"

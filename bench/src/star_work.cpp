@@ -4,25 +4,31 @@
 // sites defer to the seam stage. One JSON line per (distribution, n, grid).
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
-//                           [--budget 16384] [--threads 2]
+//                           [--budget 16384] [--threads 2] [-o FILE.jsonl] [--note TEXT]
+// Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <iostream>
 #include <thread>
 
 #include "expanse/generate.hpp"
 #include "star_host.hpp"
+#include "support.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"Counts the CUDA per-site kernel's work on the CPU"};
-  std::vector<double> sizes{1e6};
+  std::vector<std::string> sizes{"1e6"};
+  std::string output, note;
   std::vector<std::string> dists{"uniform", "gaussian", "kuzmin"};
   std::vector<std::string> grids{"quantile"};
   unsigned budget = 1u << 14;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
-  app.add_option("--n", sizes, "numbers of points")->delimiter(',');
+  app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
+  app.add_option("-o,--output", output, "append JSON lines to this file (default: stdout)");
+  app.add_option("--note", note, "free text stored in every record");
   app.add_option("--dist", dists, "distributions (expanse generate names)")->delimiter(',');
   app.add_option("--grid", grids, "quantile and/or uniform")->delimiter(',');
   app.add_option("--budget", budget, "work units after which a site defers");
@@ -30,24 +36,32 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
 
+  std::ofstream file;
+  if (!output.empty()) file.open(output, std::ios::app);
+  std::ostream& out = output.empty() ? std::cout : file;
+  const std::string run_id = bench::utc_now();
+  const auto machine = bench::machine_info();
   for (const std::string& dist : dists) {
-    for (const double size : sizes) {
-      const auto n = static_cast<std::size_t>(size);
+    for (const std::string& size : sizes) {
+      const std::size_t n = bench::parse_count(size);
       const std::vector<expanse::Point2> points = expanse::generate_points(dist, n, 1);
       const expanse::detail::SiteSet sites = expanse::detail::prepare_sites(points);
       const expanse::detail::Hull hull = expanse::detail::convex_hull(sites);
       for (const std::string& grid : grids) {
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
         const auto t = layout.walk_all(budget, threads);
-        nlohmann::json record = {
-            {"experiment", "star_work"}, {"distribution", dist}, {"n", n}, {"sites", t.sites},
+        nlohmann::ordered_json record = {
+            {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
+            {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
+            {"distribution", dist}, {"n", n}, {"sites", t.sites},
             {"grid", grid}, {"budget", budget}, {"sites_per_bucket", sites_per_bucket},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"sites_over_4096", t.sites_over_4096}, {"sites_over_budget", t.sites_over_budget},
             {"deferred", t.deferred}, {"deferred_undecided", t.deferred_undecided},
-            {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex}};
-        std::cout << record.dump() << std::endl;
+            {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex},
+            {"commit", bench::git_commit()}, {"date", bench::utc_now()}, {"machine", machine}, {"note", note}};
+        out << record.dump() << std::endl;
       }
     }
   }
