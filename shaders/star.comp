@@ -2,15 +2,37 @@
 // Per-site seeding (docs/algorithm.md, "GPU, per-site seeding"): every site walks its own star
 // of Delaunay triangles around itself, stores the star (for star_links.comp, which derives the
 // adjacency from the stars), and emits the triangles it owns (smallest site id) in star order.
+//
+// Shape of the code. The searches are written for two very different executors: GPU warps,
+// and Mesa's lavapipe, which runs 8 invocations as the lanes of CPU vector registers and
+// predicates every `if` — both sides of every branch run, masked, on every pass through the
+// enclosing loop. So the loops are nested by how often their bodies run:
+//   scan loop (innermost):  one candidate site, or one step to the next row segment of cells;
+//                           floating-point filters only;
+//   search loop:            once a box of cells has been scanned: the empty-circle region of
+//                           the best candidate, the next box, or the next edge of the walk;
+//   exact loop (outermost): once per candidate the filters could not decide (rare): the exact
+//                           certificate and CGAL's perturbation, then back into the scan.
+// The rare exact code thus costs lavapipe once per site, not once per candidate.
+//
+// A search visits boxes of cells. Cells are sorted row-major, so one row of a box is one
+// contiguous range of sites: a box costs its rows, however many cells they hold. The first
+// box covers a guess of the empty circle; each further box covers the region the best
+// candidate's circle leaves (circle ∩ left half-plane, with a proven floating-point margin),
+// which only shrinks as better candidates appear. The search ends when the region lies in the
+// cells visited.
 #extension GL_ARB_gpu_shader_fp64 : enable
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x_id = 0) in;
-// Star row length in star[]: a site whose star has more neighbours defers to the seam stage
-// (uniform inputs reach degree 17 about once in 10^6 sites). Only used in index arithmetic.
+// Most neighbours a star may have (at most 16, the row length, see star_common.glsl): a site
+// whose star has more defers to the seam stage (uniform inputs reach degree 17 about once in
+// 10^6 sites).
 layout(constant_id = 1) const int STAR_CAPACITY = 16;
-// Loop iterations one invocation may spend before deferring its site (see grid.glsl).
+// Loop iterations one invocation may spend before deferring its site. On lavapipe the backend
+// keeps 8 lanes x budget under its cap of 65535 back-edges per batch (see the canary below).
 layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
+
 
 layout(std430, set = 0, binding = 0) readonly buffer Sites { dvec2 sites[]; };
 layout(std430, set = 0, binding = 1) readonly buffer CellStart { int cell_start[]; };
@@ -18,10 +40,11 @@ layout(std430, set = 0, binding = 2) readonly buffer Predecessor { int predecess
 layout(std430, set = 0, binding = 3) writeonly buffer Triangles { int triangles[]; };
 // [0] triangles written, [1] deferred sites, [2] output overflow, [3] impossible searches
 layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
-// Row s: the star of s, counter-clockwise from index star_start, wrapping (star_common.glsl).
-layout(std430, set = 0, binding = 5) buffer Star { int star[]; };
-// [2s] star info (degree, start, closed / deferred bits), [2s + 1] first output triangle of s.
-layout(std430, set = 0, binding = 6) writeonly buffer SiteInfo { int site_info[]; };
+// Row s (four ivec4): the star of s, counter-clockwise from index star_start, wrapping
+// (star_common.glsl). Written only for sites that do not defer.
+layout(std430, set = 0, binding = 5) writeonly buffer Star { ivec4 star4[]; };
+// Site s: (star info (star_common.glsl), first output triangle of s or -1).
+layout(std430, set = 0, binding = 6) writeonly buffer SiteInfo { ivec2 site_info[]; };
 
 layout(push_constant) uniform Params {
   dvec2 origin;
@@ -32,131 +55,363 @@ layout(push_constant) uniform Params {
   int triangle_capacity;
 } params;
 
-dvec2 site_at(int id) { return sites[id]; }
-int cell_begin(int cell) { return cell_start[cell]; }
-int slot_site(int slot) { return slot; }  // sites are stored sorted by cell
-
-#include "grid.glsl"
+#include "cells.glsl"
+#include "predicates.glsl"
 #include "star_common.glsl"
 
-void defer_site(int s) {
-  site_info[2 * s] = int(STAR_DEFERRED);
-  site_info[2 * s + 1] = -1;
-  atomicAdd(counters[1], 1u);
+const int PHASE_NEAREST = 0;  // nearest neighbour v0 of s
+const int PHASE_CCW = 1;      // triangles (s, v, apex(s->v)) counter-clockwise from v0
+const int PHASE_CW = 2;       // the walk met the hull: (v, s, apex(v->s)) clockwise from v0
+const int PHASE_DONE = 3;
+const int PHASE_DEFER = 4;
+
+const int NONE_BELOW = 1 << 29;  // an empty box: lo = NONE_BELOW, hi = -NONE_BELOW
+
+ivec2 cell_of(dvec2 p) {
+  return ivec2(cell_coord(p.x, params.origin.x, params.inv_width.x, params.cells),
+               cell_coord(p.y, params.origin.y, params.inv_width.y, params.cells));
+}
+
+
+// A scan of more cells than this stops at the first better candidate, to plan a smaller box.
+const int BIG_SCAN_CELLS = 24;
+
+int box_cells(ivec2 lo, ivec2 hi) {
+  ivec2 size = max(hi - lo + 1, ivec2(0));
+  return size.x * size.y;
+}
+
+bool box_inside(ivec2 lo, ivec2 hi, ivec2 outer_lo, ivec2 outer_hi) {
+  return all(greaterThanEqual(lo, outer_lo)) && all(lessThanEqual(hi, outer_hi));
+}
+
+// Cell box of circle(a, b, c) ∩ left half-plane of a->b, for c strictly left of a->b; the whole
+// grid when the circle is too ill-conditioned to bound in floating point.
+//
+// Why the margin holds: a centre is computed only when the angle at a has sin >= 1e-4
+// (cross^2 >= 1e-8 |ba|^2 |ca|^2). Then the denominator 2 cross has relative error <= 3 eps /
+// 1e-4, and the numerators' absolute errors are <= 5 eps (|ba| + |ca|) |ba| |ca|, so the
+// computed centre is off by < 1e-11 (|ba| + |ca| + R); input rounding of ba, ca (relative eps)
+// moves it by the same order. The margin 1e-6 (R + |ba|_1 + |ca|_1) (1-norms bound the lengths
+// from above) exceeds that by five orders of magnitude, and also covers sqrt and division that
+// are not correctly rounded on some devices. The absolute part covers rounding of the centre
+// and extreme points themselves: sites are scaled below 1 in magnitude.
+void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell) {
+  precise dvec2 ba = b - a;
+  precise dvec2 ca = c - a;
+  precise double cross = ba.x * ca.y - ba.y * ca.x;
+  precise double b2 = ba.x * ba.x + ba.y * ba.y;
+  precise double c2 = ca.x * ca.x + ca.y * ca.y;
+  double lb = sqrt(b2);
+  lo_cell = ivec2(0);
+  hi_cell = ivec2(params.cells - 1);
+  if (cross > 0.0lf && cross * cross >= 1.0e-8lf * b2 * c2) {
+    precise double inv = 0.5lf / cross;
+    precise double ux = (ca.y * b2 - ba.y * c2) * inv;
+    precise double uy = (ba.x * c2 - ca.x * b2) * inv;
+    dvec2 centre = a + dvec2(ux, uy);
+    double radius = sqrt(ux * ux + uy * uy);
+    double margin = 1.0e-6lf * (radius + abs(ba.x) + abs(ba.y) + abs(ca.x) + abs(ca.y)) + ABS_MARGIN;
+    dvec2 lo = min(a, b), hi = max(a, b);
+    // Extreme points of the circle count only if they can be on the left of a->b.
+    double tol = 2.0lf * margin * lb;
+    double rx = radius * ba.y, ry = radius * ba.x;  // cross(ba, ±radius e_k) terms
+    double side = ba.x * (centre.y - a.y) - ba.y * (centre.x - a.x);
+    if (side - rx >= -tol) { lo.x = min(lo.x, centre.x + radius); hi.x = max(hi.x, centre.x + radius); }
+    if (side + rx >= -tol) { lo.x = min(lo.x, centre.x - radius); hi.x = max(hi.x, centre.x - radius); }
+    if (side + ry >= -tol) { lo.y = min(lo.y, centre.y + radius); hi.y = max(hi.y, centre.y + radius); }
+    if (side - ry >= -tol) { lo.y = min(lo.y, centre.y - radius); hi.y = max(hi.y, centre.y - radius); }
+    lo_cell = cell_of(lo - dvec2(margin));
+    hi_cell = cell_of(hi + dvec2(margin));
+  } else {
+    // Too flat to locate the centre. If c sees a-b at an obtuse angle, the region is the minor
+    // segment, and every point x in it sees a-b at an angle >= angle(a c b) > 90 degrees: it
+    // lies in the disc with diameter a-b (Thales), which needs no centre. Hull-hugging flat
+    // triangles of uniform inputs are exactly this case.
+    precise dvec2 ac = a - c;
+    precise dvec2 bc = b - c;
+    precise double dot_c = ac.x * bc.x + ac.y * bc.y;
+    precise double l2ac = ac.x * ac.x + ac.y * ac.y;
+    precise double l2bc = bc.x * bc.x + bc.y * bc.y;
+    if (dot_c < 0.0lf && dot_c * dot_c > 1.0e-12lf * l2ac * l2bc) {
+      dvec2 mid = 0.5lf * (a + b);
+      double radius_t = 0.5lf * lb * (1.0lf + 1.0e-6lf) + 1.0e-6lf * lb + ABS_MARGIN;
+      lo_cell = cell_of(mid - dvec2(radius_t));
+      hi_cell = cell_of(mid + dvec2(radius_t));
+    }
+  }
 }
 
 void main() {
   int s = params.first_site + int(gl_GlobalInvocationID.x);
   if (s >= params.site_count) return;
-  loop_budget = LOOP_BUDGET;
-
-  Grid g;
-  g.origin = params.origin;
-  g.inv_width = params.inv_width;
-  g.cells = params.cells;
-  g.lo = ivec2(0);
-  g.hi = ivec2(params.cells - 1);
-  g.cell_base = 0;
-
-  int v0;
-  int slot;
-  int status = nearest_search(g, s, v0, slot);
-  if (status != SEARCH_FOUND) {
-    if (status != SEARCH_DEFER) atomicAdd(counters[3], 1u);
-    defer_site(s);
-    return;
-  }
-
-  // The star goes straight into row s of star[]: the counter-clockwise walk from index 0 up,
-  // the clockwise one (if the walk meets the hull) from the row's end down, so that the row read
-  // from index (STAR_CAPACITY - m) on, wrapping, is the whole star counter-clockwise.
-  int row = s * STAR_CAPACITY;
+  int budget = LOOP_BUDGET;
+  ivec2 grid_hi = ivec2(params.cells - 1);
   dvec2 ps = sites[s];
-  star[row] = v0;
-  int deg = 1;
-  int m = 0;
+  int pred_s = predecessor[s];
 
-  // Counter-clockwise around s: triangle (s, v, apex(s->v)).
-  int v = v0;
+  int phase = PHASE_NEAREST;
+  bool impossible = false;
+  // The edge searched, a->b (for the nearest neighbour: a = b = s).
+  int ia = s, ib = s;
+  dvec2 pa = ps, pb = ps;
+  // Best candidate so far.
+  int best = -1;
+  dvec2 best_p = ps;
+  double best_d2 = 0.0lf;
+  // Boxes: visited (done), target (being scanned: target minus visited, row segment by row
+  // segment; segment `part` 0 is left of the visited box or the whole row, 1 right of it).
+  ivec2 vlo = ivec2(NONE_BELOW), vhi = ivec2(-NONE_BELOW);
+  ivec2 cs = cell_of(ps);
+  ivec2 tlo = max(cs - 1, ivec2(0)), thi = min(cs + 1, grid_hi);
+  int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
+  int pending = -1;
+  bool big_scan = false, restart = false;
+  // The walk. The star, in registers: counter-clockwise from index 0 up; clockwise (if the walk meets
+  // the hull) from index 15 down, so that the row read from index 16 - m on, wrapping, is the
+  // whole star counter-clockwise.
+  StarRow row = StarRow(ivec4(-1), ivec4(-1), ivec4(-1), ivec4(-1));
+  int v0 = -1, v = -1, deg = 0, m = 0;
   bool closed = false;
-  while (predecessor[s] != v) {
-    --loop_budget;
-    int c;
-    status = apex_search(g, s, v, ps, sites[v], c, slot);
-    if (status != SEARCH_FOUND) {
-      if (status == SEARCH_NONE || status == SEARCH_OUTSIDE) atomicAdd(counters[3], 1u);
-      defer_site(s);
-      return;
+
+  for (;;) {    // exact loop
+    for (;;) {  // search loop
+      for (;;) {  // scan loop
+        if (--budget < 0) break;
+        if (slot < slot_end) {
+          int ip = slot;  // sites are stored sorted by cell
+          if (ip != ia && ip != ib && ip != best) {  // a restart may visit best again
+            dvec2 p = sites[ip];
+            precise dvec2 d = p - ps;
+            precise double d2 = d.x * d.x + d.y * d.y;
+            // 0: reject, 1: better than the best, 2: the filters cannot tell
+            int verdict;
+            if (phase == PHASE_NEAREST) {
+              verdict = (best < 0 || d2 < best_d2 * (1.0lf - 1.0e-12lf)) ? 1
+                        : (d2 > best_d2 * (1.0lf + 1.0e-12lf) ? 0 : 2);
+            } else {
+              int o = orient2d_filter(pa, pb, p);
+              int ic = best < 0 ? 1 : incircle_filter(pa, pb, best_p, p);
+              verdict = o == -1 ? 0 : (o == UNCERTAIN ? 2 : (ic == UNCERTAIN ? 2 : (ic == 1 ? 1 : 0)));
+            }
+            if (verdict == 2) {
+              pending = ip;
+              break;
+            }
+            if (verdict == 1) {
+              best = ip;
+              best_p = p;
+              best_d2 = d2;
+              if (big_scan) {
+                // A large box was planned from a worse candidate's region: plan again.
+                restart = true;
+                ++slot;
+                break;
+              }
+            }
+          }
+          ++slot;
+          continue;
+        }
+        // Next row segment of target minus visited.
+        bool in_rows = y >= vlo.y && y <= vhi.y;
+        if (part == 0 && in_rows) {
+          part = 1;
+        } else {
+          part = 0;
+          ++y;
+        }
+        if (y > thi.y) break;
+        in_rows = y >= vlo.y && y <= vhi.y;
+        int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
+        int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
+        slot = 0;
+        slot_end = 0;
+        if (x0 <= x1) {
+          int c0 = y * params.cells + x0;
+          slot = cell_start[c0];
+          slot_end = cell_start[c0 + (x1 - x0) + 1];
+        }
+      }
+      if (budget < 0 || pending >= 0) break;
+
+      // The target box is scanned (or abandoned for a better plan: restart).
+      if (!restart) {
+        vlo = tlo;
+        vhi = thi;
+      }
+      restart = false;
+      bool found = false;
+      if (best < 0) {
+        if (vlo == ivec2(0) && vhi == grid_hi) {
+          impossible = true;  // no candidate anywhere: cannot happen for a valid hull
+          phase = PHASE_DEFER;
+          break;
+        }
+        ivec2 grow = max(vhi - vlo + 1, ivec2(1));
+        tlo = max(vlo - grow, ivec2(0));
+        thi = min(vhi + grow, grid_hi);
+      } else {
+        ivec2 rlo, rhi;
+        if (phase == PHASE_NEAREST) {
+          double reach = sqrt(best_d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
+          rlo = cell_of(ps - dvec2(reach));
+          rhi = cell_of(ps + dvec2(reach));
+        } else {
+          apex_region(pa, pb, best_p, rlo, rhi);
+        }
+        found = box_inside(rlo, rhi, vlo, vhi);
+        // Towards the region, but by at most half the visited box per side: nearer candidates
+        // come first and shrink the region (a far region is often a poor early candidate's).
+        if (vlo.x > vhi.x) {
+          // Restarted in a search's first box: the region within that box.
+          tlo = max(rlo, tlo);
+          thi = min(rhi, thi);
+        } else {
+          ivec2 reach = max((vhi - vlo + 1) >> 1, ivec2(1));
+          tlo = max(min(vlo, rlo), vlo - reach);
+          thi = min(max(vhi, rhi), vhi + reach);
+        }
+      }
+      y = tlo.y - 1;
+      part = 1;
+      slot = 0;
+      slot_end = 0;
+      big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > BIG_SCAN_CELLS;
+      if (!found) continue;
+
+      // The search is over: best is the answer. Take the walk's next step.
+      int c = best;
+      if (phase == PHASE_NEAREST) {
+        v0 = c;
+        row_put(row, 0, c);
+        deg = 1;
+        v = c;
+        phase = PHASE_CCW;
+      } else if (phase == PHASE_CCW) {
+        if (c == v0) {
+          closed = true;
+          phase = PHASE_DONE;
+        } else if (deg >= STAR_CAPACITY) {
+          phase = PHASE_DEFER;
+        } else {
+          row_put(row, deg, c);
+          ++deg;
+          v = c;
+        }
+      } else {
+        if (c == v0 || deg + m >= STAR_CAPACITY) {
+          phase = PHASE_DEFER;
+        } else {
+          row_put(row, STAR_ROW - 1 - m, c);
+          ++m;
+          v = c;
+        }
+      }
+      if (phase == PHASE_CCW && pred_s == v) {
+        phase = PHASE_CW;  // s->v is an outer edge: the rest lies clockwise from v0
+        v = v0;
+      }
+      if (phase == PHASE_CW && predecessor[v] == s) phase = PHASE_DONE;
+      if (phase >= PHASE_DONE) break;
+      // Search the next edge: s->v counter-clockwise, v->s clockwise.
+      dvec2 pv = sites[v];
+      ia = phase == PHASE_CCW ? s : v;
+      ib = phase == PHASE_CCW ? v : s;
+      pa = phase == PHASE_CCW ? ps : pv;
+      pb = phase == PHASE_CCW ? pv : ps;
+      best = -1;
+      vlo = ivec2(NONE_BELOW);
+      vhi = ivec2(-NONE_BELOW);
+      // First box: half-width |ab|_1 / 2 around the point |ab| / 2 left of the midpoint, a guess
+      // at where the empty circle lies (tuned on uniform inputs; any box is correct).
+      dvec2 ba = pb - pa;
+      dvec2 centre = 0.5lf * (pa + pb) + 0.5lf * dvec2(-ba.y, ba.x);
+      double r = 0.5lf * (abs(ba.x) + abs(ba.y));
+      tlo = cell_of(centre - dvec2(r));
+      thi = cell_of(centre + dvec2(r));
+      y = tlo.y - 1;
+      big_scan = box_cells(tlo, thi) > BIG_SCAN_CELLS;
     }
-    if (c == v0) {
-      closed = true;
+    if (budget < 0) phase = PHASE_DEFER;
+    if (phase >= PHASE_DONE) break;
+
+    // Decide the pending candidate exactly, then resume the scan after it.
+    int ip = pending;
+    dvec2 p = sites[ip];
+    int verdict = 0;
+    if (phase == PHASE_NEAREST) {
+      bool ok = true;
+      double e_new = squared_distance_certified(p, ps, ok);
+      double e_old = squared_distance_certified(best_p, ps, ok);
+      verdict = !ok ? 2 : (e_new < e_old ? 1 : 0);
+    } else {
+      int o = orient2d_device(pa, pb, p);
+      if (o == UNCERTAIN) {
+        verdict = 2;
+      } else if (o > 0) {
+        int sign = best < 0 ? 1 : incircle_perturbed_device(pa, pb, best_p, p);
+        verdict = sign == UNCERTAIN ? 2 : (sign > 0 ? 1 : 0);
+      }
+    }
+    if (verdict == 2) {
+      phase = PHASE_DEFER;
       break;
     }
-    if (deg >= STAR_CAPACITY) {
-      defer_site(s);
-      return;
+    if (verdict == 1) {
+      precise dvec2 d = p - ps;
+      best = ip;
+      best_p = p;
+      best_d2 = d.x * d.x + d.y * d.y;
     }
-    star[row + deg] = c;
-    ++deg;
-    v = c;
-  }
-  if (!closed) {
-    // The walk met the hull: the rest of the star lies clockwise from v0,
-    // triangles (v, s, apex(v->s)).
-    v = v0;
-    while (predecessor[v] != s) {
-      --loop_budget;
-      int c;
-      status = apex_search(g, v, s, sites[v], ps, c, slot);
-      if (status != SEARCH_FOUND || c == v0) {
-        if (status == SEARCH_NONE || status == SEARCH_OUTSIDE) atomicAdd(counters[3], 1u);
-        defer_site(s);
-        return;
-      }
-      if (deg + m >= STAR_CAPACITY) {
-        defer_site(s);
-        return;
-      }
-      star[row + STAR_CAPACITY - 1 - m] = c;
-      ++m;
-      v = c;
-    }
-  }
-  deg += m;
-  uint info = uint(deg) | (uint((STAR_CAPACITY - m) % STAR_CAPACITY) << 8) |
-              (closed ? STAR_CLOSED : 0u);
-  int tris = closed ? deg : deg - 1;
-  int owned = 0;
-  for (int t = 0; t < tris; ++t) {
-    int a = star_at_row(row, info, t), b = star_at_row(row, info, t + 1);
-    if (s < a && s < b) ++owned;
+    slot = ip + 1;
+    pending = -1;
   }
 
   // Canary for lavapipe's loop cap: once it is reached every loop runs at most once, so a
   // two-trip loop that trips once means some search above may have been cut short.
   int canary = 0;
   for (int i = 0; i < min(params.site_count, 2); ++i) ++canary;
-  if (canary != 2 || loop_budget < 0) {
-    defer_site(s);
+  if (phase == PHASE_DEFER || canary != 2) {
+    if (impossible) atomicAdd(counters[3], 1u);
+    site_info[s] = ivec2(int(STAR_DEFERRED), -1);
+    atomicAdd(counters[1], 1u);
     return;
   }
-  site_info[2 * s] = int(info);
-  site_info[2 * s + 1] = -1;
-  if (owned == 0) return;
-  uint at = atomicAdd(counters[0], uint(owned));
-  if (int(at) + owned > params.triangle_capacity) {
-    atomicAdd(counters[2], 1u);
-    return;
-  }
-  site_info[2 * s + 1] = int(at);
-  // In star order: star_links.comp numbers a site's triangles the same way.
-  int write_at = 3 * int(at);
+
+  deg += m;
+  uint info = uint(deg) | (uint(m > 0 ? STAR_ROW - m : 0) << 5) | (closed ? STAR_CLOSED : 0u);
+  int tris = closed ? deg : deg - 1;
+  uint owned = 0u;
+  int a = star_at(row, info, 0);
   for (int t = 0; t < tris; ++t) {
-    int a = star_at_row(row, info, t), b = star_at_row(row, info, t + 1);
-    if (!(s < a && s < b)) continue;
+    int b = star_at(row, info, t + 1);
+    if (s < a && s < b) owned |= 1u << uint(t);
+    a = b;
+  }
+  info |= owned << 16;
+  star4[4 * s] = row.q0;
+  star4[4 * s + 1] = row.q1;
+  star4[4 * s + 2] = row.q2;
+  star4[4 * s + 3] = row.q3;
+  int count = bitCount(owned);
+  int at = -1;
+  if (count > 0) {
+    at = int(atomicAdd(counters[0], uint(count)));
+    if (at + count > params.triangle_capacity) {
+      atomicAdd(counters[2], 1u);
+      at = -1;
+    }
+  }
+  site_info[s] = ivec2(int(info), at);
+  if (at < 0) return;
+  // In star order: star_links.comp numbers a site's triangles the same way.
+  int write_at = 3 * at;
+  for (uint left = owned; left != 0u; left &= left - 1u) {
+    int t = findLSB(left);
     triangles[write_at] = s;
-    triangles[write_at + 1] = a;
-    triangles[write_at + 2] = b;
+    triangles[write_at + 1] = star_at(row, info, t);
+    triangles[write_at + 2] = star_at(row, info, t + 1);
     write_at += 3;
   }
 }

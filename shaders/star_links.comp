@@ -2,7 +2,7 @@
 // Adjacency of the per-site layout's output, from the stars star.comp stored (a second pass
 // over the sites; the CUDA backend's emit kernel does the same). A triangle is emitted by its
 // smallest site id, which numbers its triangles in star order from its output offset, so the
-// index of any triangle follows from its owner's star.
+// index of any triangle follows from its owner's star and owned-triangle mask.
 //
 // For a triangle (s, a, b) owned by s: the triangles across s-b and s-a are the next and previous
 // ones in s's own star; the one across a-b is (b, a, r) with r read from a's star (or b's). When
@@ -14,8 +14,8 @@
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const int STAR_CAPACITY = 16;
 
-layout(std430, set = 0, binding = 0) readonly buffer Star { int star[]; };
-layout(std430, set = 0, binding = 1) readonly buffer SiteInfo { int site_info[]; };
+layout(std430, set = 0, binding = 0) readonly buffer Star { ivec4 star4[]; };
+layout(std430, set = 0, binding = 1) readonly buffer SiteInfo { ivec2 site_info[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Neighbors { int neighbors[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Unresolved { int unresolved[]; };
 // [4] unresolved slots, [5] loop cap hit (results void), [6] unresolved overflow
@@ -30,14 +30,8 @@ layout(push_constant) uniform Params {
 
 #include "star_common.glsl"
 
-uint info_of(int s) { return uint(site_info[2 * s]); }
-
-// Position of u in the star of o, or -1.
-int star_find(int o, uint info, int u) {
-  int deg = star_degree(info);
-  for (int t = 0; t < deg; ++t)
-    if (star_at_row(o * STAR_CAPACITY, info, t) == u) return t;
-  return -1;
+StarRow load_row(int s) {
+  return StarRow(star4[4 * s], star4[4 * s + 1], star4[4 * s + 2], star4[4 * s + 3]);
 }
 
 // Output index of the counter-clockwise triangle (x, y, z), or -1 if its owner deferred.
@@ -52,59 +46,49 @@ int triangle_index(int x, int y, int z) {
     u = x;
     w = y;
   }
-  uint info = info_of(o);
-  if (star_deferred(info)) return -1;
-  int base = site_info[2 * o + 1];
-  if (base < 0) return -1;
-  int deg = star_degree(info);
-  int tris = star_closed(info) ? deg : deg - 1;
-  int row = o * STAR_CAPACITY;
-  int count = 0;
-  for (int t = 0; t < tris; ++t) {
-    int a = star_at_row(row, info, t), b = star_at_row(row, info, t + 1);
-    if (a == u) return b == w ? base + count : -1;
-    if (o < a && o < b) ++count;
-  }
-  return -1;
+  ivec2 record = site_info[o];
+  uint info = uint(record.x);
+  if (star_deferred(info) || record.y < 0) return -1;
+  StarRow r = load_row(o);
+  int t = star_find(r, info, u);
+  if (t < 0 || t >= star_triangles(info) || star_at(r, info, t + 1) != w) return -1;
+  return star_output(record.y, info, t);
 }
 
 void main() {
   int s = params.first_site + int(gl_GlobalInvocationID.x);
   if (s >= params.site_count) return;
-  uint info = info_of(s);
-  if (star_deferred(info)) return;
-  int at_out = site_info[2 * s + 1];
-  if (at_out < 0) return;  // owns no triangle
+  ivec2 record = site_info[s];
+  uint info = uint(record.x);
+  int at_out = record.y;
+  if (star_deferred(info) || at_out < 0) return;  // deferred, or owns no triangle
   int deg = star_degree(info);
   bool closed = star_closed(info);
-  int tris = closed ? deg : deg - 1;
-  int row = s * STAR_CAPACITY;
-  for (int t = 0; t < tris; ++t) {
-    int a = star_at_row(row, info, t), b = star_at_row(row, info, t + 1);
-    if (!(s < a && s < b)) continue;
-    // Opposite s: (b, a, r).
-    int across_ab = -1;
+  StarRow row = load_row(s);
+  for (uint left = star_owned(info); left != 0u; left &= left - 1u) {
+    int t = findLSB(left);
+    int a = star_at(row, info, t), b = star_at(row, info, t + 1);
+    // Opposite s: (b, a, r), r read from the star of a (the one before b) or else of b (the
+    // one after a).
+    uint ia = uint(site_info[a].x), ib = uint(site_info[b].x);
+    bool from_a = !star_deferred(ia);
+    int o = from_a ? a : b;
+    uint io = from_a ? ia : ib;
     int r = -1;
-    uint ia = info_of(a), ib = info_of(b);
-    if (!star_deferred(ia)) {
-      int p = star_find(a, ia, b);
-      if (p >= 0 && (p > 0 || star_closed(ia))) r = star_at_row(a * STAR_CAPACITY, ia, p - 1);
-    } else if (!star_deferred(ib)) {
-      int q = star_find(b, ib, a);
-      if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib)))
-        r = star_at_row(b * STAR_CAPACITY, ib, q + 1);
+    if (from_a || !star_deferred(ib)) {
+      StarRow ro = load_row(o);
+      int p = star_find(ro, io, from_a ? b : a);
+      bool inside = from_a ? (p > 0 || star_closed(io)) : (p < star_degree(io) - 1 || star_closed(io));
+      if (p >= 0 && inside) r = star_at(ro, io, from_a ? p - 1 : p + 1);
     } else {
       uint at = atomicAdd(counters[4], 1u);
       if (int(at) < params.unresolved_capacity) unresolved[int(at)] = 3 * at_out;
       else atomicAdd(counters[6], 1u);
     }
-    if (r >= 0) across_ab = triangle_index(b, a, r);
-    // Opposite a: (s, b, next).
-    int across_bs = -1;
-    if (closed || t + 2 < deg) across_bs = triangle_index(s, b, star_at_row(row, info, t + 2));
-    // Opposite b: (s, previous, a).
-    int across_sa = -1;
-    if (closed || t >= 1) across_sa = triangle_index(s, star_at_row(row, info, t - 1), a);
+    int across_ab = r >= 0 ? triangle_index(b, a, r) : -1;
+    // Opposite a: (s, b, next); opposite b: (s, previous, a).
+    int across_bs = (closed || t + 2 < deg) ? triangle_index(s, b, star_at(row, info, t + 2)) : -1;
+    int across_sa = (closed || t >= 1) ? triangle_index(s, star_at(row, info, t - 1), a) : -1;
     neighbors[3 * at_out] = across_ab;
     neighbors[3 * at_out + 1] = across_bs;
     neighbors[3 * at_out + 2] = across_sa;

@@ -5,13 +5,11 @@
 //   int cell_begin(int cell);           cell_start[] of the grid, offset by the grid's cell_base
 //   int slot_site(int slot);            site id stored in a slot (identity or block-local list)
 //
-// Cells are indexed by clamp(floor((x - origin) * inv_width), 0, G - 1) on host and device with
-// the same two correctly rounded operations, which is monotone in x: a site whose coordinate
-// lies in [lo, hi] is in a cell between cell_of(lo) and cell_of(hi). So a box test in cell space
-// can never hide a site, whatever the rounding.
+// Cells are indexed as in cells.glsl, the same rule as the host's bucketing.
 #ifndef EXPANSE_GRID_GLSL
 #define EXPANSE_GRID_GLSL
 
+#include "cells.glsl"
 #include "predicates.glsl"
 
 // Mesa's llvmpipe (lavapipe) caps the loop iterations of one shader invocation (65535 back
@@ -28,19 +26,10 @@ struct Grid {
   int cell_base;    // offset of this grid in cell_start[]
 };
 
-// Absolute slack: eight ulps of 1, the largest site magnitude (SiteSet scales below 1).
-const double ABS_MARGIN = 1.7763568394002505e-15lf;
-
 const int SEARCH_FOUND = 0;
 const int SEARCH_DEFER = 1;    // a predicate could not be decided on the device
 const int SEARCH_NONE = 2;     // no candidate in the grid
 const int SEARCH_OUTSIDE = 3;  // found, but the empty-circle region leaves the grid's cells
-
-int cell_coord(double x, double origin, double inv_width, int cells) {
-  precise double t = (x - origin) * inv_width;
-  double f = clamp(floor(t), 0.0lf, double(cells - 1));
-  return int(f);
-}
 
 ivec2 cell_of(Grid g, dvec2 p) {
   return ivec2(cell_coord(p.x, g.origin.x, g.inv_width.x, g.cells),
@@ -193,13 +182,6 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
     return SEARCH_OUTSIDE;
   }
   return SEARCH_FOUND;
-}
-
-// Squared distance, certified exact (ok stays true) or not.
-double squared_distance_certified(dvec2 p, dvec2 q, inout bool ok) {
-  precise double dx = cdiff(p.x, q.x, ok);
-  precise double dy = cdiff(p.y, q.y, ok);
-  return csum(cprod(dx, dx, ok), cprod(dy, dy, ok), ok);
 }
 
 // Nearest other site of s by an exact comparison of squared distances (exactly equal distances

@@ -95,6 +95,13 @@ double cprod(double p, double q, inout bool ok) {
   return r;
 }
 
+// Squared distance, certified exact (ok stays true) or not.
+double squared_distance_certified(dvec2 p, dvec2 q, inout bool ok) {
+  precise double dx = cdiff(p.x, q.x, ok);
+  precise double dy = cdiff(p.y, q.y, ok);
+  return csum(cprod(dx, dx, ok), cprod(dy, dy, ok), ok);
+}
+
 int incircle_certified(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
   bool ok = true;

@@ -1,26 +1,73 @@
 // Star bookkeeping shared by star.comp (which writes the stars) and star_links.comp (which
-// derives adjacency from them); mirrors cuda_backend/star_common.cuh.
+// derives adjacency from them); the CUDA backend keeps its own (cuda_backend/star_common.cuh).
 //
-// The including kernel declares STAR_CAPACITY (row length) and a readable buffer `star[]`
-// holding row s = the star of site s, and packs per-site info as
-//   bits 0-7 degree, bits 8-15 start index in the row, STAR_CLOSED, STAR_DEFERRED.
+// The star of s is row s of `star4[]`: 16 ints as four ivec4, read and written whole (on
+// lavapipe every buffer access costs a loop over the lanes, whatever its width, so one ivec4
+// costs what one int does). Per-site info packs
+//   bits 0-4 degree, bits 5-8 start index in the row, STAR_CLOSED, STAR_DEFERRED,
+//   bits 16-31: bit t set when s owns its t-th star triangle (s smallest of its three sites).
+// The t-th neighbour counter-clockwise is at row index (start + t) & 15. No integer division
+// anywhere: lavapipe has no vector integer divide and runs `%` lane by lane.
 #ifndef EXPANSE_STAR_COMMON_GLSL
 #define EXPANSE_STAR_COMMON_GLSL
 
-const uint STAR_CLOSED = 1u << 16;
-const uint STAR_DEFERRED = 1u << 17;
+const int STAR_ROW = 16;
+const uint STAR_CLOSED = 1u << 9;
+const uint STAR_DEFERRED = 1u << 10;
 
-int star_degree(uint info) { return int(info & 255u); }
-int star_start(uint info) { return int((info >> 8) & 255u); }
+int star_degree(uint info) { return int(info & 31u); }
+int star_start(uint info) { return int((info >> 5) & 15u); }
 bool star_closed(uint info) { return (info & STAR_CLOSED) != 0u; }
 bool star_deferred(uint info) { return (info & STAR_DEFERRED) != 0u; }
+uint star_owned(uint info) { return info >> 16; }
+// Number of triangles in the star (one less than the degree when it meets the hull).
+int star_triangles(uint info) { return star_closed(info) ? star_degree(info) : star_degree(info) - 1; }
+// Output index of the t-th triangle of an owner whose first triangle is `base`.
+int star_output(int base, uint info, int t) {
+  return base + bitCount(star_owned(info) & ((1u << uint(t)) - 1u));
+}
 
-// The t-th neighbour counter-clockwise of the site whose row starts at `row`; t in [-deg, 2 deg)
-// wraps (meaningful for closed stars). Operands of % are kept non-negative.
-int star_at_row(int row, uint info, int t) {
+struct StarRow {
+  ivec4 q0, q1, q2, q3;
+};
+
+// Row index j in [0, 16), with selects only (no indexing a vector by a variable).
+int row_pick(StarRow r, int j) {
+  ivec4 q = j < 8 ? (j < 4 ? r.q0 : r.q1) : (j < 12 ? r.q2 : r.q3);
+  int k = j & 3;
+  return k < 2 ? (k == 0 ? q.x : q.y) : (k == 2 ? q.z : q.w);
+}
+
+void row_put(inout StarRow r, int j, int value) {
+  ivec4 v = ivec4(value);
+  r.q0 = mix(r.q0, v, equal(ivec4(j), ivec4(0, 1, 2, 3)));
+  r.q1 = mix(r.q1, v, equal(ivec4(j), ivec4(4, 5, 6, 7)));
+  r.q2 = mix(r.q2, v, equal(ivec4(j), ivec4(8, 9, 10, 11)));
+  r.q3 = mix(r.q3, v, equal(ivec4(j), ivec4(12, 13, 14, 15)));
+}
+
+// Row index of the t-th neighbour counter-clockwise; t in [-deg, 2 deg) wraps (meaningful for
+// closed stars).
+int star_slot(uint info, int t) {
   int deg = star_degree(info);
-  t = (t + deg) % deg;
-  return star[row + (star_start(info) + t) % STAR_CAPACITY];
+  if (t < 0) t += deg;
+  if (t >= deg) t -= deg;
+  return (star_start(info) + t) & 15;
+}
+
+int star_at(StarRow r, uint info, int t) { return row_pick(r, star_slot(info, t)); }
+
+// Position t of u in the star, or -1. Row entries outside the star are ignored (never written).
+int star_find(StarRow r, uint info, int u) {
+  const uvec4 w = uvec4(1u, 2u, 4u, 8u);
+  uvec4 m = uvec4(equal(r.q0, ivec4(u))) * w + (uvec4(equal(r.q1, ivec4(u))) * w << 4) +
+            (uvec4(equal(r.q2, ivec4(u))) * w << 8) + (uvec4(equal(r.q3, ivec4(u))) * w << 12);
+  uint hits = m.x | m.y | m.z | m.w;
+  uint start = uint(star_start(info));
+  uint span = (1u << uint(star_degree(info))) - 1u;
+  uint valid = ((span << start) | (span >> (16u - start))) & 0xffffu;
+  hits &= valid;
+  return hits == 0u ? -1 : ((findLSB(hits) - int(start)) & 15);
 }
 
 #endif

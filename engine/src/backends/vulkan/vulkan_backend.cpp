@@ -80,6 +80,7 @@ static_assert(sizeof(LinkParams) == 16);
 
 // Star row length on the device (shaders/star.comp, STAR_CAPACITY): longer stars defer.
 constexpr std::uint32_t star_capacity = 16;
+static_assert(star_capacity <= 16, "star_common.glsl packs star positions and owned masks in 4 and 16 bits");
 
 template <class T>
 void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
