@@ -118,7 +118,8 @@ class Triangulator {
   /// indices_capacity_bytes bytes. max_index_buffer_bytes(count) is always enough.
   /// Throws Error(too_large), with the bytes needed in the message, when the triangles do not
   /// fit indices_capacity_bytes; then, and for every other error (NaN/Inf included), nothing
-  /// has been written into `indices`.
+  /// has been written into `indices` (the copy into it is the last step, made only once the
+  /// whole mesh is known and fits; only a device lost during that copy can leave it partial).
   IndexBufferResult triangulate_to_index_buffer(VkBuffer points, VkDeviceSize offset,
                                                 std::size_t count, VkBuffer indices,
                                                 VkDeviceSize indices_offset,
