@@ -53,6 +53,8 @@ layout(push_constant) uniform Params {
   int site_count;
   int first_site;      // dispatches are split to respect maxComputeWorkGroupCount
   int triangle_capacity;
+  // A scan of more cells than this stops at the first better candidate, to plan a smaller box.
+  int big_scan_cells;
 } params;
 
 #include "cells.glsl"
@@ -72,9 +74,6 @@ ivec2 cell_of(dvec2 p) {
                cell_coord(p.y, params.origin.y, params.inv_width.y, params.cells));
 }
 
-
-// A scan of more cells than this stops at the first better candidate, to plan a smaller box.
-const int BIG_SCAN_CELLS = 24;
 
 int box_cells(ivec2 lo, ivec2 hi) {
   ivec2 size = max(hi - lo + 1, ivec2(0));
@@ -277,7 +276,7 @@ void main() {
       part = 1;
       slot = 0;
       slot_end = 0;
-      big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > BIG_SCAN_CELLS;
+      big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > params.big_scan_cells;
       if (!found) continue;
 
       // The search is over: best is the answer. Take the walk's next step.
@@ -331,7 +330,7 @@ void main() {
       tlo = cell_of(centre - dvec2(r));
       thi = cell_of(centre + dvec2(r));
       y = tlo.y - 1;
-      big_scan = box_cells(tlo, thi) > BIG_SCAN_CELLS;
+      big_scan = box_cells(tlo, thi) > params.big_scan_cells;
     }
     if (budget < 0) phase = PHASE_DEFER;
     if (phase >= PHASE_DONE) break;

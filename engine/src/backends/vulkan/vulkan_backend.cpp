@@ -5,13 +5,19 @@
 #include "backends/vulkan/vulkan_backend.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <thread>
 #include <unordered_map>
 
 #include "backends/backend.hpp"
@@ -43,6 +49,35 @@ std::shared_ptr<Instance> shared_instance_locked(Registry& r) {
   return r.instance;
 }
 
+// Host threads for an O(count) pass: all of them for large passes, one for small ones.
+unsigned host_workers(std::size_t count) {
+  if (count < 65536) return 1;
+  return std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
+}
+
+// Runs body(begin, end, worker) on `workers` threads over contiguous chunks of [0, count); the
+// calling thread takes the first chunk. Rethrows the first exception.
+template <class Body>
+void parallel_chunks(std::size_t count, unsigned workers, Body&& body) {
+  workers = std::max(1u, workers);
+  const std::size_t chunk = (count + workers - 1) / workers;
+  std::vector<std::thread> threads;
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto run = [&](unsigned w) {
+    try {
+      body(std::min(count, w * chunk), std::min(count, (w + 1) * chunk), w);
+    } catch (...) {
+      std::lock_guard lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  };
+  for (unsigned w = 1; w < workers; ++w) threads.emplace_back(run, w);
+  run(0);
+  for (auto& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
 // Cell index on the host: the same two correctly rounded operations as cell_coord() in
 // shaders/include/grid.glsl (this file builds with -ffp-contract=off), so host bucketing and
 // device box tests agree bit for bit.
@@ -69,6 +104,44 @@ struct GridParams {
   std::int32_t triangle_capacity;
 };
 static_assert(sizeof(GridParams) == 48);
+
+// star.comp's push constants: the grid, then the scan size that counts as large.
+struct StarParams {
+  GridParams grid;
+  std::int32_t big_scan_cells;
+  std::int32_t pad[3];
+};
+static_assert(sizeof(StarParams) == 64);
+
+// Cells per side of the star grid. A search costs the rows and the sites of the boxes it scans
+// (empty cells are free: a row of a box is one range of sites), so the cells are sized for the
+// density where the typical site lies — the site-weighted median of a coarse histogram — not
+// the mean: `per_bucket` sites per cell there. For uniform inputs both agree; for a gaussian
+// the median site sees about 8 times the mean density. Capped at 16 cells per site and by the
+// largest storage buffer.
+int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer) {
+  const std::size_t n = std::size_t(sites.size());
+  const double wx = sites.bounds.max_x - sites.bounds.min_x;
+  const double wy = sites.bounds.max_y - sites.bounds.min_y;
+  const int h = int(std::clamp(std::sqrt(double(n) / 64.0), 1.0, 256.0));
+  std::vector<std::uint32_t> bins(std::size_t(h) * std::size_t(h), 0);
+  const double ix = wx > 0 ? h / wx : 0.0, iy = wy > 0 ? h / wy : 0.0;
+  for (const Point2& p : sites.points)
+    ++bins[std::size_t(cell_coord(p.y, sites.bounds.min_y, iy, h)) * std::size_t(h) +
+           std::size_t(cell_coord(p.x, sites.bounds.min_x, ix, h))];
+  std::sort(bins.begin(), bins.end(), std::greater<>());
+  std::size_t seen = 0;
+  double median_bin = 1.0;
+  for (std::uint32_t c : bins) {
+    seen += c;
+    median_bin = c;
+    if (2 * seen >= n) break;
+  }
+  const double crowding = std::clamp(median_bin * double(bins.size()) / double(std::max<std::size_t>(n, 1)), 1.0, 64.0);
+  const double most = std::min({8192.0, std::sqrt(16.0 * double(n) + 1.0),
+                                std::floor(std::sqrt(double(max_buffer / 4) - 1.0))});
+  return int(std::clamp(std::ceil(std::sqrt(crowding * double(n) / per_bucket)), 1.0, std::max(1.0, most)));
+}
 
 struct LinkParams {
   std::int32_t count;
@@ -198,15 +271,107 @@ class VulkanBackend final : public Backend {
                                   limits.maxComputeWorkGroupInvocations}));
   }
 
+  // Sites sorted by cell for the star kernel, written straight into `points`, `cell_start` and
+  // `predecessor` (mapped memory: the device's own on unified-memory devices, else staging).
+  // A counting sort in O(n + cells), its passes split over the host threads; sites keep their
+  // SiteSet order within a cell, so the result does not depend on the thread count.
+  struct StarGrid {
+    int cells = 0;
+    double origin[2]{}, inv_width[2]{};
+    std::vector<std::int32_t> to_site;  // sorted id -> SiteSet id
+  };
+
+  static StarGrid bucket_stars(const GrowInput& input, int cells, Point2* points,
+                               std::int32_t* cell_start, std::int32_t* predecessor) {
+    const SiteSet& sites = input.sites;
+    const std::size_t n = std::size_t(sites.size());
+    StarGrid g;
+    g.cells = cells;
+    g.origin[0] = sites.bounds.min_x;
+    g.origin[1] = sites.bounds.min_y;
+    const double wx = sites.bounds.max_x - sites.bounds.min_x;
+    const double wy = sites.bounds.max_y - sites.bounds.min_y;
+    g.inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
+    g.inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+    const std::size_t cell_count = std::size_t(cells) * std::size_t(cells);
+    const unsigned workers = host_workers(n);
+    std::vector<std::int32_t> cell(n);
+    std::vector<std::vector<std::int32_t>> fill(workers, std::vector<std::int32_t>(cell_count, 0));
+    parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
+      std::int32_t* count = fill[w].data();
+      for (std::size_t i = begin; i < end; ++i) {
+        const Point2& p = sites.points[i];
+        const int cx = cell_coord(p.x, g.origin[0], g.inv_width[0], cells);
+        const int cy = cell_coord(p.y, g.origin[1], g.inv_width[1], cells);
+        cell[i] = cy * cells + cx;
+        ++count[cell[i]];
+      }
+    });
+    // cell_start, and each worker's first slot in each cell.
+    std::int32_t running = 0;
+    for (std::size_t c = 0; c < cell_count; ++c) {
+      cell_start[c] = running;
+      for (unsigned w = 0; w < workers; ++w) {
+        const std::int32_t here = fill[w][c];
+        fill[w][c] = running;
+        running += here;
+      }
+    }
+    cell_start[cell_count] = running;
+    std::vector<std::int32_t> to_sorted(n);
+    g.to_site.resize(n);
+    parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
+      std::int32_t* next = fill[w].data();
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::int32_t at = next[cell[i]]++;
+        to_sorted[i] = at;
+        g.to_site[std::size_t(at)] = std::int32_t(i);
+        points[at] = sites.points[i];
+      }
+    });
+    parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::int32_t p = input.hull.predecessor[std::size_t(g.to_site[k])];
+        predecessor[k] = p < 0 ? -1 : to_sorted[std::size_t(p)];
+      }
+    });
+    return g;
+  }
+
+  // Device triangles (sorted ids) -> partial.triangles (SiteSet ids), checking every id.
+  static void finish_stars(const StarGrid& g, const std::int32_t* raw, std::size_t count,
+                           PartialTriangulation& partial) {
+    partial.triangles.resize(count);
+    const std::size_t n = g.to_site.size();
+    std::atomic<bool> bad{false};
+    parallel_chunks(count, host_workers(count), [&](std::size_t begin, std::size_t end, unsigned) {
+      for (std::size_t t = begin; t < end; ++t)
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::int32_t id = raw[3 * t + k];
+          if (id < 0 || std::size_t(id) >= n) {
+            bad = true;
+            return;
+          }
+          partial.triangles[t][k] = g.to_site[std::size_t(id)];
+        }
+    });
+    if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
+  }
+
   void grow_stars(const GrowInput& input, GrowResult& result) {
     Context& ctx = *context_;
     const std::size_t n = std::size_t(input.sites.size());
     const double per_bucket = input.layout.sites_per_bucket > 0 ? input.layout.sites_per_bucket : 2.0;
-    const int cells = int(std::clamp(std::ceil(std::sqrt(double(n) / per_bucket)), 1.0, 8192.0));
+    // A CPU device (lavapipe) runs on host memory: its buffers are written and read in place,
+    // with no staging copies, and the adjacency is derived from the stars on the host, where
+    // pointer chasing costs a load instead of a loop over the SIMD lanes.
+    const bool cpu_device = ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    const bool in_place = cpu_device;
 
     auto start = Clock::now();
-    Sorted s = bucket(input, cells);
-    result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
+    const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
+    const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    result.host_stages.push_back({"vulkan: grid", ms_since(start)});
 
     // Each triangle is emitted once and there are at most 2n - 5.
     const std::size_t capacity = 2 * n;
@@ -214,114 +379,236 @@ class VulkanBackend final : public Backend {
     // and the adjacency is left to the host.
     const std::size_t unresolved_capacity = n / 4 + 1024;
     ctx.require_fits(bytes_of(n, 16), "the sites");
+    ctx.require_fits(bytes_of(cell_entries, 4), "the grid");
     ctx.require_fits(bytes_of(capacity, 12), "the triangle output");
     ctx.require_fits(bytes_of(n, 4 * star_capacity), "the stars");
 
     start = Clock::now();
-    Buffer sites(ctx, bytes_of(n, 16), false);
-    Buffer cell_start(ctx, bytes_of(s.cell_start.size(), 4), false);
-    Buffer predecessor(ctx, bytes_of(n, 4), false);
-    Buffer triangles(ctx, bytes_of(capacity, 12), false);
-    Buffer counters(ctx, 64, false);
-    Buffer stars(ctx, bytes_of(n, 4 * star_capacity), false);
-    Buffer site_info(ctx, bytes_of(n, 8), false);
-    Buffer neighbors(ctx, bytes_of(capacity, 12), false);
-    Buffer unresolved(ctx, bytes_of(unresolved_capacity, 4), false);
-    const VkDeviceSize in_bytes = sites.size() + cell_start.size() + predecessor.size();
-    Buffer upload(ctx, in_bytes, true);
-    // Download layout: triangles, neighbours, counters, unresolved slots.
-    const VkDeviceSize o_neighbors = triangles.size();
-    const VkDeviceSize o_counters = o_neighbors + neighbors.size();
-    const VkDeviceSize o_unresolved = o_counters + counters.size();
-    Buffer download(ctx, o_unresolved + unresolved.size(), true);
-    VkDeviceSize offset = 0;
-    put(upload, offset, s.points);
-    const VkDeviceSize cell_offset = offset;
-    put(upload, offset, s.cell_start);
-    const VkDeviceSize pred_offset = offset;
-    put(upload, offset, s.predecessor);
-    result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
+    Buffer sites(ctx, bytes_of(n, 16), in_place);
+    Buffer cell_start(ctx, bytes_of(cell_entries, 4), in_place);
+    Buffer predecessor(ctx, bytes_of(n, 4), in_place);
+    Buffer triangles(ctx, bytes_of(capacity, 12), in_place);
+    Buffer counters(ctx, 64, in_place);
+    Buffer stars(ctx, bytes_of(n, 4 * star_capacity), in_place);
+    Buffer site_info(ctx, bytes_of(n, 8), in_place);
+    std::unique_ptr<Buffer> neighbors, unresolved, upload, download;
+    VkDeviceSize o_neighbors = 0, o_counters = 0, o_unresolved = 0;
+    const VkDeviceSize cell_offset = sites.size(), pred_offset = cell_offset + cell_start.size();
+    if (!in_place) {
+      neighbors = std::make_unique<Buffer>(ctx, bytes_of(capacity, 12), false);
+      unresolved = std::make_unique<Buffer>(ctx, bytes_of(unresolved_capacity, 4), false);
+      upload = std::make_unique<Buffer>(ctx, pred_offset + predecessor.size(), true);
+      // Download layout: triangles, neighbours, counters, unresolved slots.
+      o_neighbors = triangles.size();
+      o_counters = o_neighbors + neighbors->size();
+      o_unresolved = o_counters + counters.size();
+      download = std::make_unique<Buffer>(ctx, o_unresolved + unresolved->size(), true);
+    }
+    result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
+
+    start = Clock::now();
+    char* in = static_cast<char*>(in_place ? nullptr : upload->mapped());
+    const StarGrid g = bucket_stars(
+        input, cells, reinterpret_cast<Point2*>(in_place ? sites.mapped() : in),
+        reinterpret_cast<std::int32_t*>(in_place ? cell_start.mapped() : in + cell_offset),
+        reinterpret_cast<std::int32_t*>(in_place ? predecessor.mapped() : in + pred_offset));
+    if (in_place) std::memset(counters.mapped(), 0, counters.size());
+    result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
 
     // On lavapipe one workgroup = one SIMD batch, so the loop cap (see loop_budget) is shared
     // by as few invocations as possible.
-    const bool cpu_device =
-        ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
-    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(GridParams), spec);
+    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(StarParams), spec);
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info};
     kernel.bind(bindings);
-    const std::uint32_t link_spec[] = {wg, star_capacity};
-    Kernel& links = ctx.kernel("star_links", spirv::star_links(), 5, sizeof(LinkParams), link_spec);
-    Buffer* link_bindings[] = {&stars, &site_info, &neighbors, &unresolved, &counters};
-    links.bind(link_bindings);
+    Kernel* links = nullptr;
+    if (!in_place) {
+      const std::uint32_t link_spec[] = {wg, star_capacity};
+      links = &ctx.kernel("star_links", spirv::star_links(), 5, sizeof(LinkParams), link_spec);
+      Buffer* link_bindings[] = {&stars, &site_info, neighbors.get(), unresolved.get(), &counters};
+      links->bind(link_bindings);
+    }
 
     start = Clock::now();
     Recording rec(ctx);
-    rec.copy(upload, sites, bytes_of(n, 16), 0);
-    rec.copy(upload, cell_start, bytes_of(s.cell_start.size(), 4), cell_offset);
-    rec.copy(upload, predecessor, bytes_of(n, 4), pred_offset);
-    rec.fill(counters, 0);
-    rec.barrier();
-    rec.timestamp("vulkan: upload");
-    GridParams params{{s.origin[0], s.origin[1]}, {s.inv_width[0], s.inv_width[1]}, cells,
-                      std::int32_t(n), 0, std::int32_t(capacity)};
+    if (!in_place) {
+      rec.copy(*upload, sites, sites.size(), 0);
+      rec.copy(*upload, cell_start, cell_start.size(), cell_offset);
+      rec.copy(*upload, predecessor, predecessor.size(), pred_offset);
+      rec.fill(counters, 0);
+      rec.barrier();
+      rec.timestamp("vulkan: upload");
+    }
+    // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
+    // on finding a better candidate.
+    StarParams params{{{g.origin[0], g.origin[1]}, {g.inv_width[0], g.inv_width[1]}, cells,
+                       std::int32_t(n), 0, std::int32_t(capacity)},
+                      std::int32_t(std::clamp(48.0 / per_bucket, 4.0, 1.0e6)),
+                      {0, 0, 0}};
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
     for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
-      params.first = std::int32_t(first);
+      params.grid.first = std::int32_t(first);
       const std::uint64_t left = (n - first + wg - 1) / wg;
       rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
     }
     rec.barrier();
     rec.timestamp("vulkan: stars");
-    LinkParams link_params{std::int32_t(n), 0, std::int32_t(unresolved_capacity), 0};
-    for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
-      link_params.first = std::int32_t(first);
-      const std::uint64_t left = (n - first + wg - 1) / wg;
-      rec.dispatch(links, &link_params, std::uint32_t(std::min(left, max_groups)));
+    if (links) {
+      LinkParams link_params{std::int32_t(n), 0, std::int32_t(unresolved_capacity), 0};
+      for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
+        link_params.first = std::int32_t(first);
+        const std::uint64_t left = (n - first + wg - 1) / wg;
+        rec.dispatch(*links, &link_params, std::uint32_t(std::min(left, max_groups)));
+      }
+      rec.barrier();
+      rec.timestamp("vulkan: links");
+      rec.copy(triangles, *download, triangles.size(), 0, 0);
+      rec.copy(*neighbors, *download, neighbors->size(), 0, o_neighbors);
+      rec.copy(counters, *download, counters.size(), 0, o_counters);
+      rec.copy(*unresolved, *download, unresolved->size(), 0, o_unresolved);
+      rec.barrier();
+      rec.timestamp("vulkan: download");
     }
-    rec.barrier();
-    rec.timestamp("vulkan: links");
-    rec.copy(triangles, download, triangles.size(), 0, 0);
-    rec.copy(neighbors, download, neighbors.size(), 0, o_neighbors);
-    rec.copy(counters, download, counters.size(), 0, o_counters);
-    rec.copy(unresolved, download, unresolved.size(), 0, o_unresolved);
-    rec.barrier();
-    rec.timestamp("vulkan: download");
     result.device_stages = rec.submit();
     result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
 
     start = Clock::now();
     std::uint32_t count[16];
-    const char* mapped = static_cast<const char*>(download.mapped());
-    std::memcpy(count, mapped + o_counters, sizeof(count));
+    const char* out = static_cast<const char*>(in_place ? nullptr : download->mapped());
+    std::memcpy(count, in_place ? counters.mapped() : out + o_counters, sizeof(count));
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
-    std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
-    std::memcpy(raw.data(), download.mapped(), raw.size() * 4);
-    finish(s, raw, count[0], result);
+    finish_stars(g, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : download->mapped()),
+                 count[0], result.partial);
     result.partial.deferred_expansions = count[1];
     result.iterations = 1;
-    // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
-    // Either way the adjacency is left empty, and the pipeline derives it.
-    if (count[5] == 0 && count[6] == 0)
-      read_neighbors(mapped + o_neighbors, reinterpret_cast<const std::int32_t*>(mapped + o_unresolved),
-                     count[4], result.partial);
     result.host_stages.push_back({"vulkan: read back", ms_since(start)});
+
+    start = Clock::now();
+    if (in_place) {
+      link_stars(static_cast<const std::int32_t*>(stars.mapped()),
+                 static_cast<const std::int32_t*>(site_info.mapped()), n, result.partial);
+      result.host_stages.push_back({"vulkan: links (host)", ms_since(start)});
+    } else if (count[5] == 0 && count[6] == 0) {
+      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
+      // Either way the adjacency is left empty, and the pipeline derives it.
+      auto& nbrs = result.partial.neighbors;
+      nbrs.resize(result.partial.triangles.size());
+      static_assert(sizeof(nbrs[0]) == 12);
+      std::memcpy(nbrs.data(), out + o_neighbors, nbrs.size() * 12);
+      const auto* slots = reinterpret_cast<const std::int32_t*>(out + o_unresolved);
+      pair_unresolved(std::vector<std::int32_t>(slots, slots + count[4]), result.partial);
+      result.host_stages.push_back({"vulkan: links (read back)", ms_since(start)});
+    }
   }
 
-  // Copies the device adjacency and links the slots the device listed as unresolved (edges
-  // whose two vertices both deferred): the triangle across x->y, if emitted, is listed too with
-  // y->x, so pairing the listed slots by edge completes the adjacency.
-  static void read_neighbors(const char* device_neighbors, const std::int32_t* slots,
-                             std::size_t slot_count, PartialTriangulation& partial) {
+  // The host twin of star_links.comp, over the stars in place: the same derivation, the same
+  // output. Every id read is checked, so a faulty device cannot make the host misbehave.
+  static void link_stars(const std::int32_t* star, const std::int32_t* info_base, std::size_t n,
+                         PartialTriangulation& partial) {
     const std::size_t count = partial.triangles.size();
     auto& nbrs = partial.neighbors;
-    nbrs.resize(count);
-    static_assert(sizeof(nbrs[0]) == 12);
-    std::memcpy(nbrs.data(), device_neighbors, count * 12);
-    if (slot_count == 0) return;
+    nbrs.assign(count, {no_neighbor, no_neighbor, no_neighbor});
+    constexpr std::uint32_t closed_bit = 1u << 9, deferred_bit = 1u << 10;
+    auto info_of = [&](std::int32_t s) { return std::uint32_t(info_base[2 * std::size_t(s)]); };
+    auto base_of = [&](std::int32_t s) { return info_base[2 * std::size_t(s) + 1]; };
+    auto degree = [](std::uint32_t i) { return int(i & 31u); };
+    auto start_of = [](std::uint32_t i) { return int((i >> 5) & 15u); };
+    auto closed = [&](std::uint32_t i) { return (i & closed_bit) != 0; };
+    auto deferred = [&](std::uint32_t i) { return (i & deferred_bit) != 0; };
+    auto tris_of = [&](std::uint32_t i) { return closed(i) ? degree(i) : degree(i) - 1; };
+    std::atomic<bool> bad{false};
+    auto valid = [&](std::int32_t id) {
+      if (id >= 0 && std::size_t(id) < n) return true;
+      bad = true;
+      return false;
+    };
+    auto at = [&](std::int32_t s, std::uint32_t i, int t) {
+      const int d = degree(i);
+      if (t < 0) t += d;
+      if (t >= d) t -= d;
+      return star[16 * std::size_t(s) + std::size_t((start_of(i) + t) & 15)];
+    };
+    auto find = [&](std::int32_t s, std::uint32_t i, std::int32_t u) {
+      for (int t = 0, d = degree(i); t < d; ++t)
+        if (at(s, i, t) == u) return t;
+      return -1;
+    };
+    auto index = [&](std::int32_t x, std::int32_t y, std::int32_t z) -> std::int32_t {
+      std::int32_t o = x, u = y, w = z;
+      if (y < o && y < z) {
+        o = y, u = z, w = x;
+      } else if (z < o && z < y) {
+        o = z, u = x, w = y;
+      }
+      const std::uint32_t i = info_of(o);
+      const std::int32_t base = base_of(o);
+      if (deferred(i) || base < 0) return no_neighbor;
+      const int t = find(o, i, u);
+      if (t < 0 || t >= tris_of(i) || at(o, i, t + 1) != w) return no_neighbor;
+      const std::int32_t k = base + std::popcount((i >> 16) & ((1u << t) - 1u));
+      if (std::size_t(k) >= count) {
+        bad = true;
+        return no_neighbor;
+      }
+      return k;
+    };
+    const unsigned workers = host_workers(n);
+    std::vector<std::vector<std::int32_t>> open(workers);
+    parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
+      for (std::size_t si = begin; si < end && !bad; ++si) {
+        const std::int32_t s = std::int32_t(si);
+        const std::uint32_t i = info_of(s);
+        std::int32_t out = base_of(s);
+        if (deferred(i) || out < 0) continue;
+        const int d = degree(i);
+        for (std::uint32_t left = i >> 16; left != 0; left &= left - 1) {
+          const int t = std::countr_zero(left);
+          const std::int32_t a = at(s, i, t), b = at(s, i, t + 1);
+          if (!valid(a) || !valid(b) || std::size_t(out) >= count) {
+            bad = true;
+            break;
+          }
+          std::int32_t r = -1;
+          const std::uint32_t ia = info_of(a), ib = info_of(b);
+          if (!deferred(ia)) {
+            const int p = find(a, ia, b);
+            if (p >= 0 && (p > 0 || closed(ia))) r = at(a, ia, p - 1);
+          } else if (!deferred(ib)) {
+            const int q = find(b, ib, a);
+            if (q >= 0 && (q < degree(ib) - 1 || closed(ib))) r = at(b, ib, q + 1);
+          } else {
+            open[w].push_back(3 * out);
+          }
+          auto& row = nbrs[std::size_t(out)];
+          row[0] = r >= 0 && valid(r) ? index(b, a, r) : no_neighbor;
+          if (closed(i) || t + 2 < d) {
+            const std::int32_t next = at(s, i, t + 2);
+            row[1] = valid(next) ? index(s, b, next) : no_neighbor;
+          }
+          if (closed(i) || t >= 1) {
+            const std::int32_t prev = at(s, i, t - 1);
+            row[2] = valid(prev) ? index(s, prev, a) : no_neighbor;
+          }
+          ++out;
+        }
+      }
+    });
+    if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid star");
+    std::vector<std::int32_t> slots;
+    for (const auto& list : open) slots.insert(slots.end(), list.begin(), list.end());
+    pair_unresolved(slots, partial);
+  }
+
+  // Links the slots listed as unresolved (edges whose two vertices both deferred): the triangle
+  // across x->y, if emitted, is listed too with y->x, so pairing the listed slots by edge
+  // completes the adjacency.
+  static void pair_unresolved(const std::vector<std::int32_t>& slots, PartialTriangulation& partial) {
+    if (slots.empty()) return;
+    const std::size_t count = partial.triangles.size();
+    auto& nbrs = partial.neighbors;
     auto edge = [&](std::int32_t slot, bool reversed) {
       const Triangle& t = partial.triangles[std::size_t(slot / 3)];
       const int k = slot % 3;
@@ -331,15 +618,15 @@ class VulkanBackend final : public Backend {
       return (x << 32) | y;
     };
     std::unordered_map<std::uint64_t, std::int32_t> open;
-    open.reserve(slot_count);
-    for (std::size_t i = 0; i < slot_count; ++i) {
-      if (slots[i] < 0 || std::size_t(slots[i] / 3) >= count)
+    open.reserve(slots.size());
+    for (std::int32_t slot : slots) {
+      if (slot < 0 || std::size_t(slot / 3) >= count)
         throw Error(ErrorCode::internal, "Vulkan: the device listed an invalid adjacency slot");
-      open.emplace(edge(slots[i], false), slots[i]);
+      open.emplace(edge(slot, false), slot);
     }
-    for (std::size_t i = 0; i < slot_count; ++i) {
-      const auto found = open.find(edge(slots[i], true));
-      nbrs[std::size_t(slots[i] / 3)][std::size_t(slots[i] % 3)] =
+    for (std::int32_t slot : slots) {
+      const auto found = open.find(edge(slot, true));
+      nbrs[std::size_t(slot / 3)][std::size_t(slot % 3)] =
           found == open.end() ? no_neighbor : found->second / 3;
     }
   }
