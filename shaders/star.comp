@@ -6,9 +6,10 @@
 // Shape of the code. The searches are written for two very different executors: GPU warps,
 // and Mesa's lavapipe, which runs 8 invocations as the lanes of CPU vector registers and
 // predicates every `if` — both sides of every branch run, masked, on every pass through the
-// enclosing loop. So the loops are nested by how often their bodies run:
-//   scan loop (innermost):  one candidate site, or one step to the next row segment of cells;
-//                           floating-point filters only;
+// enclosing loop, and every storage-buffer access is a loop over the lanes. So the loops are
+// nested by how often their bodies run:
+//   candidate loop (innermost): one candidate site; floating-point filters only;
+//   scan loop:              the next row segment of cells (the candidates' range);
 //   search loop:            once a box of cells has been scanned: the empty-circle region of
 //                           the best candidate, the next box, or the next edge of the walk;
 //   exact loop (outermost): once per candidate the filters could not decide (rare): the exact
@@ -34,8 +35,10 @@ layout(constant_id = 1) const int STAR_CAPACITY = 16;
 layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
 
 
-layout(std430, set = 0, binding = 0) readonly buffer Sites { dvec2 sites[]; };
-layout(std430, set = 0, binding = 1) readonly buffer CellStart { int cell_start[]; };
+// Sites and cell starts are read as uniform texel buffers: on lavapipe a texel fetch is a
+// vector gather, where a storage-buffer load is a loop over the lanes.
+layout(set = 0, binding = 0) uniform usamplerBuffer site_texels;   // RGBA32UI: one dvec2
+layout(set = 0, binding = 1) uniform isamplerBuffer cell_texels;   // R32I
 layout(std430, set = 0, binding = 2) readonly buffer Predecessor { int predecessor[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Triangles { int triangles[]; };
 // [0] triangles written, [1] deferred sites, [2] output overflow, [3] impossible searches
@@ -56,6 +59,12 @@ layout(push_constant) uniform Params {
   // A scan of more cells than this stops at the first better candidate, to plan a smaller box.
   int big_scan_cells;
 } params;
+
+dvec2 site_at(int i) {
+  uvec4 u = texelFetch(site_texels, i);
+  return dvec2(packDouble2x32(u.xy), packDouble2x32(u.zw));
+}
+int cell_start_at(int c) { return texelFetch(cell_texels, c).x; }
 
 #include "cells.glsl"
 #include "predicates.glsl"
@@ -146,7 +155,7 @@ void main() {
   if (s >= params.site_count) return;
   int budget = LOOP_BUDGET;
   ivec2 grid_hi = ivec2(params.cells - 1);
-  dvec2 ps = sites[s];
+  dvec2 ps = site_at(s);
   int pred_s = predecessor[s];
 
   int phase = PHASE_NEAREST;
@@ -166,21 +175,43 @@ void main() {
   int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
   int pending = -1;
   bool big_scan = false, restart = false;
-  // The walk. The star, in registers: counter-clockwise from index 0 up; clockwise (if the walk meets
-  // the hull) from index 15 down, so that the row read from index 16 - m on, wrapping, is the
-  // whole star counter-clockwise.
+  // The walk. The star, in registers: counter-clockwise from index 0 up; clockwise (if the
+  // walk meets the hull) from index 15 down, so that the row read from index 16 - m on,
+  // wrapping, is the whole star counter-clockwise.
   StarRow row = StarRow(ivec4(-1), ivec4(-1), ivec4(-1), ivec4(-1));
   int v0 = -1, v = -1, deg = 0, m = 0;
   bool closed = false;
 
   for (;;) {    // exact loop
     for (;;) {  // search loop
-      for (;;) {  // scan loop
-        if (--budget < 0) break;
-        if (slot < slot_end) {
+      for (;;) {  // scan loop: row segments, and in each the candidates
+        if (slot >= slot_end) {
+          if (--budget < 0) break;
+          // Next row segment of target minus visited.
+          bool in_rows = y >= vlo.y && y <= vhi.y;
+          if (part == 0 && in_rows) {
+            part = 1;
+          } else {
+            part = 0;
+            ++y;
+          }
+          if (y > thi.y) break;
+          in_rows = y >= vlo.y && y <= vhi.y;
+          int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
+          int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
+          slot = 0;
+          slot_end = 0;
+          if (x0 <= x1) {
+            int c0 = y * params.cells + x0;
+            slot = cell_start_at(c0);
+            slot_end = cell_start_at(c0 + (x1 - x0) + 1);
+          }
+        }
+        for (; slot < slot_end; ++slot) {  // candidate loop
+          if (--budget < 0) break;
           int ip = slot;  // sites are stored sorted by cell
           if (ip != ia && ip != ib && ip != best) {  // a restart may visit best again
-            dvec2 p = sites[ip];
+            dvec2 p = site_at(ip);
             precise dvec2 d = p - ps;
             precise double d2 = d.x * d.x + d.y * d.y;
             // 0: reject, 1: better than the best, 2: the filters cannot tell
@@ -209,28 +240,8 @@ void main() {
               }
             }
           }
-          ++slot;
-          continue;
         }
-        // Next row segment of target minus visited.
-        bool in_rows = y >= vlo.y && y <= vhi.y;
-        if (part == 0 && in_rows) {
-          part = 1;
-        } else {
-          part = 0;
-          ++y;
-        }
-        if (y > thi.y) break;
-        in_rows = y >= vlo.y && y <= vhi.y;
-        int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
-        int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
-        slot = 0;
-        slot_end = 0;
-        if (x0 <= x1) {
-          int c0 = y * params.cells + x0;
-          slot = cell_start[c0];
-          slot_end = cell_start[c0 + (x1 - x0) + 1];
-        }
+        if (budget < 0 || pending >= 0 || restart) break;
       }
       if (budget < 0 || pending >= 0) break;
 
@@ -314,7 +325,7 @@ void main() {
       if (phase == PHASE_CW && predecessor[v] == s) phase = PHASE_DONE;
       if (phase >= PHASE_DONE) break;
       // Search the next edge: s->v counter-clockwise, v->s clockwise.
-      dvec2 pv = sites[v];
+      dvec2 pv = site_at(v);
       ia = phase == PHASE_CCW ? s : v;
       ib = phase == PHASE_CCW ? v : s;
       pa = phase == PHASE_CCW ? ps : pv;
@@ -337,7 +348,7 @@ void main() {
 
     // Decide the pending candidate exactly, then resume the scan after it.
     int ip = pending;
-    dvec2 p = sites[ip];
+    dvec2 p = site_at(ip);
     int verdict = 0;
     if (phase == PHASE_NEAREST) {
       bool ok = true;

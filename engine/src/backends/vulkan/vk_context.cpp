@@ -395,13 +395,14 @@ std::uint32_t Context::memory_type(std::uint32_t allowed, VkMemoryPropertyFlags 
 
 Kernel& Context::kernel(const std::string& name, std::span<const std::uint32_t> spirv,
                         std::uint32_t bindings, std::uint32_t push_constant_bytes,
-                        std::span<const std::uint32_t> specialization) {
+                        std::span<const std::uint32_t> specialization,
+                        std::span<const VkDescriptorType> types) {
   std::string key = name;
   for (std::uint32_t v : specialization) key += "/" + std::to_string(v);
   for (auto& [k, kernel] : kernels_)
     if (k == key) return *kernel;
   kernels_.emplace_back(key, std::make_unique<Kernel>(*this, spirv, bindings, push_constant_bytes,
-                                                      specialization));
+                                                      specialization, types));
   return *kernels_.back().second;
 }
 
@@ -412,8 +413,8 @@ Buffer::Buffer(Context& context, VkDeviceSize bytes, bool host_visible)
   if (!host_visible) context.require_fits(size_, "a storage buffer");
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size_;
-  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(context.device(), &info, nullptr, &buffer_), "vkCreateBuffer");
   VkMemoryRequirements requirements;
@@ -455,11 +456,32 @@ Buffer::~Buffer() {
   vkFreeMemory(context_.device(), memory_, nullptr);
 }
 
+// ---- TexelView --------------------------------------------------------------------------------
+
+TexelView::TexelView(Context& context, const Buffer& buffer, VkFormat format, VkDeviceSize bytes)
+    : context_(context) {
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.handle();
+  info.format = format;
+  info.offset = 0;
+  info.range = bytes;
+  check(vkCreateBufferView(context.device(), &info, nullptr, &view_), "vkCreateBufferView");
+}
+
+TexelView::~TexelView() { vkDestroyBufferView(context_.device(), view_, nullptr); }
+
 // ---- Kernel -----------------------------------------------------------------------------------
 
 Kernel::Kernel(Context& context, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-               std::uint32_t push_constant_bytes, std::span<const std::uint32_t> specialization)
-    : context_(context), bindings_(bindings), push_bytes_(push_constant_bytes) {
+               std::uint32_t push_constant_bytes, std::span<const std::uint32_t> specialization,
+               std::span<const VkDescriptorType> types)
+    : context_(context),
+      bindings_(bindings),
+      types_(types.begin(), types.end()),
+      push_bytes_(push_constant_bytes) {
+  if (types_.empty()) types_.assign(bindings, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  if (types_.size() != bindings)
+    throw Error(ErrorCode::internal, "Vulkan: kernel descriptor types do not match its bindings");
   VkDevice device = context.device();
   // Destroys what was made so far if a later step throws.
   struct Guard {
@@ -478,7 +500,7 @@ Kernel::Kernel(Context& context, std::span<const std::uint32_t> spirv, std::uint
   std::vector<VkDescriptorSetLayoutBinding> layout_bindings(bindings);
   for (std::uint32_t i = 0; i < bindings; ++i) {
     layout_bindings[i].binding = i;
-    layout_bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    layout_bindings[i].descriptorType = types_[i];
     layout_bindings[i].descriptorCount = 1;
     layout_bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -516,11 +538,16 @@ Kernel::Kernel(Context& context, std::span<const std::uint32_t> spirv, std::uint
   check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
         "vkCreateComputePipelines");
 
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindings};
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (VkDescriptorType type : types_) {
+    auto same = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == type; });
+    if (same == sizes.end()) sizes.push_back({type, 1});
+    else ++same->descriptorCount;
+  }
   VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool.maxSets = 1;
-  pool.poolSizeCount = 1;
-  pool.pPoolSizes = &size;
+  pool.poolSizeCount = std::uint32_t(sizes.size());
+  pool.pPoolSizes = sizes.data();
   check(vkCreateDescriptorPool(device, &pool, nullptr, &pool_), "vkCreateDescriptorPool");
   VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   allocate.descriptorPool = pool_;
@@ -546,19 +573,27 @@ void Kernel::release() {
   module_ = VK_NULL_HANDLE;
 }
 
-void Kernel::bind(std::span<Buffer* const> buffers) {
-  if (buffers.size() != bindings_)
+void Kernel::bind(std::span<Buffer* const> buffers, std::span<const TexelView* const> texels) {
+  if (buffers.size() != bindings_ || (!texels.empty() && texels.size() != bindings_))
     throw Error(ErrorCode::internal, "Vulkan: kernel bound with the wrong number of buffers");
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+  std::vector<VkBufferView> views(buffers.size());
   std::vector<VkWriteDescriptorSet> writes(buffers.size());
   for (std::size_t i = 0; i < buffers.size(); ++i) {
-    infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set_;
     writes[i].dstBinding = std::uint32_t(i);
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+    writes[i].descriptorType = types_[i];
+    if (types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
+      if (texels.empty() || texels[i] == nullptr)
+        throw Error(ErrorCode::internal, "Vulkan: texel binding without a view");
+      views[i] = texels[i]->handle();
+      writes[i].pTexelBufferView = &views[i];
+    } else {
+      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+      writes[i].pBufferInfo = &infos[i];
+    }
   }
   vkUpdateDescriptorSets(context_.device(), std::uint32_t(writes.size()), writes.data(), 0,
                          nullptr);

@@ -98,18 +98,37 @@ class Buffer {
   void* mapped_ = nullptr;
 };
 
-/// One compute pipeline: shader module, layouts, a descriptor set of `bindings` storage buffers,
-/// push constants, and specialization constants by constant_id (0: workgroup size).
+/// A typed view of a Buffer, read in shaders with texelFetch (a uniform texel buffer): on
+/// lavapipe a texel fetch is a vector gather, cheaper than a storage-buffer load.
+class TexelView {
+ public:
+  /// The first `bytes` of `buffer` as texels of `format`.
+  TexelView(Context& context, const Buffer& buffer, VkFormat format, VkDeviceSize bytes);
+  ~TexelView();
+  TexelView(const TexelView&) = delete;
+  TexelView& operator=(const TexelView&) = delete;
+  VkBufferView handle() const { return view_; }
+
+ private:
+  Context& context_;
+  VkBufferView view_ = VK_NULL_HANDLE;
+};
+
+/// One compute pipeline: shader module, layouts, a descriptor set of `bindings` storage buffers
+/// (or the types in `types`, when given: storage buffers and uniform texel buffers), push
+/// constants, and specialization constants by constant_id (0: workgroup size).
 class Kernel {
  public:
   Kernel(Context& context, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-         std::uint32_t push_constant_bytes, std::span<const std::uint32_t> specialization);
+         std::uint32_t push_constant_bytes, std::span<const std::uint32_t> specialization,
+         std::span<const VkDescriptorType> types = {});
   ~Kernel();
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
-  /// Points the descriptor set at these buffers (binding i = buffers[i]). Only between
-  /// submissions: the set is not in use by any pending command buffer then.
-  void bind(std::span<Buffer* const> buffers);
+  /// Points the descriptor set at these buffers (binding i = buffers[i]; for a texel binding,
+  /// texels[i], and buffers[i] is ignored). Only between submissions: the set is not in use by
+  /// any pending command buffer then.
+  void bind(std::span<Buffer* const> buffers, std::span<const TexelView* const> texels = {});
   VkPipeline pipeline() const { return pipeline_; }
   VkPipelineLayout layout() const { return layout_; }
   VkDescriptorSet set() const { return set_; }
@@ -119,6 +138,7 @@ class Kernel {
   void release();
   Context& context_;
   std::uint32_t bindings_ = 0;
+  std::vector<VkDescriptorType> types_;
   std::uint32_t push_bytes_ = 0;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
@@ -200,7 +220,8 @@ class Context {
   /// Compiled once per context, by name.
   Kernel& kernel(const std::string& name, std::span<const std::uint32_t> spirv,
                  std::uint32_t bindings, std::uint32_t push_constant_bytes,
-                 std::span<const std::uint32_t> specialization);
+                 std::span<const std::uint32_t> specialization,
+                 std::span<const VkDescriptorType> types = {});
 
  private:
   void create_common();

@@ -382,6 +382,11 @@ class VulkanBackend final : public Backend {
     ctx.require_fits(bytes_of(cell_entries, 4), "the grid");
     ctx.require_fits(bytes_of(capacity, 12), "the triangle output");
     ctx.require_fits(bytes_of(n, 4 * star_capacity), "the stars");
+    if (std::max<std::size_t>(n, cell_entries) > ctx.limits().maxTexelBufferElements)
+      throw Error(ErrorCode::too_large,
+                  "Vulkan: " + std::to_string(std::max<std::size_t>(n, cell_entries)) +
+                      " texels in one texel buffer; device " + ctx.name() + " allows " +
+                      std::to_string(ctx.limits().maxTexelBufferElements));
 
     start = Clock::now();
     Buffer sites(ctx, bytes_of(n, 16), in_place);
@@ -420,9 +425,15 @@ class VulkanBackend final : public Backend {
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
-    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(StarParams), spec);
+    const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+                           storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    const VkDescriptorType star_types[] = {texel, texel, storage, storage, storage, storage, storage};
+    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(StarParams), spec, star_types);
+    TexelView site_view(ctx, sites, VK_FORMAT_R32G32B32A32_UINT, bytes_of(n, 16));
+    TexelView cell_view(ctx, cell_start, VK_FORMAT_R32_SINT, bytes_of(cell_entries, 4));
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info};
-    kernel.bind(bindings);
+    const TexelView* texels[] = {&site_view, &cell_view, nullptr, nullptr, nullptr, nullptr, nullptr};
+    kernel.bind(bindings, texels);
     Kernel* links = nullptr;
     if (!in_place) {
       const std::uint32_t link_spec[] = {wg, star_capacity};
