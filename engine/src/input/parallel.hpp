@@ -1,51 +1,128 @@
 #pragma once
-// Splits [0, n) into one contiguous chunk per hardware thread for the host's O(n) passes
-// (validation, scaling, Morton codes, radix sort), which a GPU backend otherwise waits on.
+// The host's O(n) passes (validation, Morton sort, hull filter, bucket tree, audit, output),
+// which a GPU backend otherwise waits on, run on every host thread: work is cut into chunks
+// or tasks numbered in order, so a result never depends on how many threads ran them.
+//
+// Large buffers cost more to fault in than to fill (a fresh page is zeroed by the kernel on
+// first touch, one thread at a time unless several threads touch it): HostVector does not
+// zero on resize, and the pass that first writes a buffer should be a parallel one.
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
-#include <thread>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace expanse::detail {
 
-/// Number of chunks parallel_chunks() will use for n items (1 below a size where threads pay).
-inline std::size_t chunk_count(std::size_t n) {
-  constexpr std::size_t min_per_chunk = std::size_t{1} << 17;
-  const std::size_t hardware = std::max(1u, std::thread::hardware_concurrency());
-  return std::max<std::size_t>(1, std::min(hardware, n / min_per_chunk));
+/// Threads the host passes may use: set_host_threads()'s value if nonzero, else
+/// $EXPANSE_HOST_THREADS if it is a positive number, else every hardware thread. Results never
+/// depend on it (tests and benchmarks set it to compare).
+std::size_t host_threads();
+void set_host_threads(std::size_t threads);
+
+/// Runs task(i) for every i in [0, count) on up to host_threads() threads (the caller is one
+/// of them) and returns when all are done. Tasks are handed out in order as threads free up.
+/// Exceptions are rethrown here, the one of the lowest i. A call made while the pool is busy
+/// (from inside a task, or from another thread) runs its tasks on the calling thread.
+void parallel_tasks(std::size_t count, void (*run)(void*, std::size_t), void* context);
+
+template <class Task>
+void parallel_tasks(std::size_t count, Task&& task) {
+  using T = std::remove_reference_t<Task>;
+  parallel_tasks(count, [](void* c, std::size_t i) { (*static_cast<T*>(c))(i); },
+                 const_cast<void*>(static_cast<const void*>(std::addressof(task))));
 }
 
-/// Calls work(chunk, begin, end) for each chunk, concurrently; chunks are in order and cover
-/// [0, n). Exceptions thrown by work are rethrown here (the first chunk's first).
+/// Number of chunks parallel_chunks() will use for n items (1 below a size where threads pay).
+inline std::size_t chunk_count(std::size_t n, std::size_t min_per_chunk = std::size_t{1} << 16) {
+  return std::max<std::size_t>(1, std::min(host_threads(), n / min_per_chunk));
+}
+
+/// Calls work(chunk, begin, end) for each of `chunks` chunks, concurrently; chunks are in order
+/// and cover [0, n). Exceptions: as parallel_tasks (the first chunk's first).
 template <class Work>
-void parallel_chunks(std::size_t n, Work&& work) {
-  const std::size_t chunks = chunk_count(n);
-  const auto bounds = [&](std::size_t c) { return n * c / chunks; };
-  if (chunks == 1) {
+void parallel_chunks(std::size_t n, std::size_t chunks, Work&& work) {
+  if (chunks <= 1) {
     work(std::size_t{0}, std::size_t{0}, n);
     return;
   }
-  std::vector<std::exception_ptr> errors(chunks);
-  std::vector<std::thread> threads;
-  threads.reserve(chunks - 1);
-  for (std::size_t c = 1; c < chunks; ++c) {
-    threads.emplace_back([&, c] {
-      try {
-        work(c, bounds(c), bounds(c + 1));
-      } catch (...) {
-        errors[c] = std::current_exception();
-      }
-    });
+  parallel_tasks(chunks, [&](std::size_t c) { work(c, n * c / chunks, n * (c + 1) / chunks); });
+}
+
+/// parallel_chunks with chunk_count(n) chunks.
+template <class Work>
+void parallel_chunks(std::size_t n, Work&& work) {
+  parallel_chunks(n, chunk_count(n), std::forward<Work>(work));
+}
+
+/// std::allocator that leaves trivially copyable elements uninitialised on resize (no zeroing
+/// pass): the caller writes every element before reading it.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() noexcept = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    if constexpr (!(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>)) ::new (static_cast<void*>(p)) U;
   }
-  try {
-    work(std::size_t{0}, std::size_t{0}, bounds(1));
-  } catch (...) {
-    errors[0] = std::current_exception();
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
-  for (auto& t : threads) t.join();
-  for (auto& e : errors) {
-    if (e) std::rethrow_exception(e);
+};
+template <class T, class U>
+bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U>&) noexcept {
+  return true;
+}
+
+/// A vector whose resize() leaves new elements unwritten (see UninitializedAllocator).
+template <class T>
+using HostVector = std::vector<T, UninitializedAllocator<T>>;
+
+/// Faults in the pages of v's storage from [v.size(), capacity) on all threads, before a
+/// sequential pass (std::vector's zeroing resize) touches them.
+template <class T, class A>
+void prefault_capacity(std::vector<T, A>& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  auto* begin = reinterpret_cast<unsigned char*>(v.data() + v.size());
+  const std::size_t bytes = (v.capacity() - v.size()) * sizeof(T);
+  constexpr std::size_t page = 4096;
+  parallel_chunks(bytes / page, [&](std::size_t, std::size_t first, std::size_t last) {
+    for (std::size_t p = first; p < last; ++p) begin[p * page] = 0;
+  });
+}
+
+/// v.resize(n) for a std::vector of trivially copyable elements, its new pages faulted in on
+/// all threads first (the zeroing pass then runs over memory that is already there).
+template <class T>
+void resize_prefaulted(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity()) {
+    v.reserve(n);
+    prefault_capacity(v);
   }
+  v.resize(n);
+}
+
+/// v.reserve(capacity) for a std::vector of trivially copyable elements, the new storage
+/// faulted in on all threads before the elements move there.
+template <class T>
+void reserve_prefaulted(std::vector<T>& v, std::size_t capacity) {
+  if (capacity <= v.capacity()) return;
+  std::vector<T> bigger;
+  bigger.reserve(capacity);
+  prefault_capacity(bigger);
+  bigger.insert(bigger.end(), v.begin(), v.end());
+  v.swap(bigger);
 }
 
 }  // namespace expanse::detail

@@ -8,6 +8,7 @@
 #include "predicates/predicates.hpp"
 #include "expanse/error.hpp"
 #include "pipeline/backend_registry.hpp"
+#include "pipeline/output.hpp"
 #include "pipeline/run_pipeline.hpp"
 #include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
@@ -33,13 +34,6 @@ auto timed(Stats& stats, const char* name, Work&& work) {
     stats.stages.push_back({name, ms_since(start)});
     return result;
   }
-}
-
-std::vector<std::int32_t> to_input_indices(const std::vector<std::int32_t>& site_ids,
-                                           const detail::SiteSet& sites) {
-  std::vector<std::int32_t> out(site_ids.size());
-  for (std::size_t i = 0; i < site_ids.size(); ++i) out[i] = sites.input_index[site_ids[i]];
-  return out;
 }
 
 }  // namespace
@@ -87,12 +81,12 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   stats.device = backend.device_name();
   stats.input_points = points.size();
 
-  const detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
+  detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
   stats.sites = sites.points.size();
   stats.duplicates = stats.input_points - stats.sites;
   const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });
   stats.hull_sites = hull.sites.size();
-  mesh.hull = to_input_indices(hull.sites, sites);
+  mesh.hull = detail::to_input_indices(hull.sites, sites);
 
   if (sites.size() >= 3 && !hull.collinear) {
     detail::GrowResult grown = timed(stats, "grow", [&] {
@@ -123,14 +117,12 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
 
     timed(stats, "output", [&] {
       mesh.triangles = std::move(partial.triangles);
-      for (Triangle& t : mesh.triangles) {
-        for (std::int32_t& v : t) v = sites.input_index[v];
-      }
+      detail::remap_to_input(mesh.triangles, sites);
       if (options.neighbors) mesh.neighbors = std::move(partial.neighbors);
     });
   }
   stats.triangles = mesh.triangles.size();
-  mesh.representative = sites.representative;
+  mesh.representative = std::move(sites.representative);  // the last use of sites
   stats.total_ms = ms_since(start);
   return mesh;
 }

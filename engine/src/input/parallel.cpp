@@ -1,0 +1,138 @@
+#include "input/parallel.hpp"
+
+#include <condition_variable>
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace expanse::detail {
+namespace {
+
+std::atomic<std::size_t> threads_override{0};
+
+// Workers started once and kept: a pass over 16M sites takes a few milliseconds on 16 cores,
+// about what starting and joining 15 threads for every pass would cost. One job at a time;
+// the caller works on it too.
+class Pool {
+ public:
+  static Pool& instance() {
+    static Pool pool;
+    return pool;
+  }
+
+  // False when busy (nested or concurrent call): the caller then runs the tasks itself.
+  bool run(std::size_t count, std::size_t threads, void (*task)(void*, std::size_t), void* context) {
+    std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+    if (!busy.owns_lock()) return false;
+    std::vector<std::exception_ptr> errors(count);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      while (workers_.size() + 1 < threads) workers_.emplace_back([this] { work(); });
+      job_ = {task, context, count, &errors};
+      next_.store(0);
+      helpers_wanted_ = std::min(threads, count) - 1;
+      helpers_active_ = 0;
+      ++generation_;
+    }
+    wake_.notify_all();
+    drain();
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      // Helpers that joined have claimed their last task; wait until they have finished it.
+      helpers_wanted_ = 0;
+      done_.wait(lock, [&] { return helpers_active_ == 0; });
+      job_ = {};
+    }
+    for (auto& e : errors) {
+      if (e) std::rethrow_exception(e);
+    }
+    return true;
+  }
+
+  ~Pool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : workers_) t.join();
+  }
+
+ private:
+  struct Job {
+    void (*task)(void*, std::size_t) = nullptr;
+    void* context = nullptr;
+    std::size_t count = 0;
+    std::vector<std::exception_ptr>* errors = nullptr;
+  };
+
+  void drain() {
+    for (std::size_t i = next_.fetch_add(1); i < job_.count; i = next_.fetch_add(1)) {
+      try {
+        job_.task(job_.context, i);
+      } catch (...) {
+        (*job_.errors)[i] = std::current_exception();
+      }
+    }
+  }
+
+  void work() {
+    std::size_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [&] { return stop_ || (generation_ != seen && helpers_wanted_ > 0); });
+      if (stop_) return;
+      seen = generation_;
+      --helpers_wanted_;
+      ++helpers_active_;
+      lock.unlock();
+      drain();
+      lock.lock();
+      if (--helpers_active_ == 0) done_.notify_all();
+    }
+  }
+
+  std::mutex busy_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> workers_;
+  Job job_;
+  std::atomic<std::size_t> next_{0};
+  std::size_t generation_ = 0;
+  std::size_t helpers_wanted_ = 0;
+  std::size_t helpers_active_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace
+
+std::size_t host_threads() {
+  if (const std::size_t set = threads_override.load()) return set;
+  static const std::size_t from_environment = [] {
+    const char* text = std::getenv("EXPANSE_HOST_THREADS");
+    const long value = text ? std::strtol(text, nullptr, 10) : 0;
+    return value > 0 ? static_cast<std::size_t>(value) : std::size_t{0};
+  }();
+  if (from_environment) return from_environment;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+void set_host_threads(std::size_t threads) { threads_override.store(threads); }
+
+void parallel_tasks(std::size_t count, void (*task)(void*, std::size_t), void* context) {
+  if (count == 0) return;
+  const std::size_t threads = std::min(host_threads(), count);
+  if (threads > 1 && Pool::instance().run(count, threads, task, context)) return;
+  std::exception_ptr first;
+  for (std::size_t i = 0; i < count; ++i) {
+    try {
+      task(context, i);
+    } catch (...) {
+      if (!first) first = std::current_exception();
+    }
+  }
+  if (first) std::rethrow_exception(first);
+}
+
+}  // namespace expanse::detail
