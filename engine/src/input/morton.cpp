@@ -13,52 +13,149 @@ Quantiser::Quantiser(const Box& box) : origin_x(box.min_x), origin_y(box.min_y) 
   scale = side > 0 ? static_cast<double>(max) / side : 1.0;
 }
 
-std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
-  const auto spread = [](std::uint32_t v) {
-    std::uint64_t x = v;
-    x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
-    x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
-    x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
-    x = (x | (x << 2)) & 0x3333333333333333ull;
-    x = (x | (x << 1)) & 0x5555555555555555ull;
-    return x;
-  };
-  return spread(qx) | (spread(qy) << 1);
+namespace {
+
+// The sort works on two pairs of arrays: side 0 is the caller's (where the result must end),
+// side 1 scratch of the same size. A range of elements lives on one side at a time.
+struct Sides {
+  std::uint64_t* codes[2];
+  std::int32_t* values[2];
+};
+
+// Elements [begin, end) on side `side`, equal in every code bit at or above `shift`.
+struct Range {
+  std::size_t begin, end;
+  int side;
+  int shift;
+};
+
+void move_to_side0(const Sides& s, const Range& r) {
+  if (r.side == 0) return;
+  std::copy(s.codes[1] + r.begin, s.codes[1] + r.end, s.codes[0] + r.begin);
+  std::copy(s.values[1] + r.begin, s.values[1] + r.end, s.values[0] + r.begin);
 }
 
-void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values) {
-  if (std::is_sorted(codes.begin(), codes.end())) return;
-  // LSD radix sort, stable. Each chunk counts its own digits; the scatter offsets of chunk c for
-  // digit d come after every earlier digit and after chunks < c of digit d, so the result is
-  // the same as a sequential pass.
-  constexpr int digit_bits = 15;  // 60-bit codes in four passes; 32K counters stay in L2
-  constexpr std::size_t radix = std::size_t{1} << digit_bits;
-  const std::size_t n = codes.size();
-  const std::size_t chunks = chunk_count(n);
-  std::vector<std::uint64_t> codes_tmp(n);
-  std::vector<std::int32_t> values_tmp(n);
-  std::vector<std::vector<std::size_t>> count(chunks, std::vector<std::size_t>(radix));
-  for (int shift = 0; shift < 2 * Quantiser::bits; shift += digit_bits) {
-    parallel_chunks(n, [&](std::size_t c, std::size_t begin, std::size_t end) {
-      auto& mine = count[c];
-      std::fill(mine.begin(), mine.end(), 0);
-      for (std::size_t i = begin; i < end; ++i) ++mine[(codes[i] >> shift) & (radix - 1)];
-    });
-    std::size_t sum = 0;
-    for (std::size_t d = 0; d < radix; ++d) {
-      for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(count[c][d], sum);
-    }
-    parallel_chunks(n, [&](std::size_t c, std::size_t begin, std::size_t end) {
-      auto& next = count[c];
-      for (std::size_t i = begin; i < end; ++i) {
-        const std::size_t slot = next[(codes[i] >> shift) & (radix - 1)]++;
-        codes_tmp[slot] = codes[i];
-        values_tmp[slot] = values[i];
-      }
-    });
-    codes.swap(codes_tmp);
-    values.swap(values_tmp);
+// Sorts a range on one thread: insertion sort when it is short, else distribution on the next
+// digit (about one bucket per element) and recursion. Stable throughout.
+void sort_small(const Sides& s, const Range& r) {
+  const std::size_t m = r.end - r.begin;
+  if (m <= 1 || r.shift == 0) {
+    move_to_side0(s, r);
+    return;
   }
+  if (m <= 32) {
+    std::uint64_t* codes = s.codes[r.side] + r.begin;
+    std::int32_t* values = s.values[r.side] + r.begin;
+    for (std::size_t i = 1; i < m; ++i) {
+      const std::uint64_t code = codes[i];
+      const std::int32_t value = values[i];
+      std::size_t j = i;
+      for (; j > 0 && codes[j - 1] > code; --j) {
+        codes[j] = codes[j - 1];
+        values[j] = values[j - 1];
+      }
+      codes[j] = code;
+      values[j] = value;
+    }
+    move_to_side0(s, r);
+    return;
+  }
+  int bits = 1;
+  while (bits < 11 && (std::size_t{2} << bits) <= m) ++bits;
+  bits = std::min(bits, r.shift);
+  const int shift = r.shift - bits;
+  const std::size_t radix = std::size_t{1} << bits;
+  const std::uint64_t* codes = s.codes[r.side];
+  const std::int32_t* values = s.values[r.side];
+  std::vector<std::uint32_t> start(radix + 1, 0);
+  for (std::size_t i = r.begin; i < r.end; ++i) ++start[((codes[i] >> shift) & (radix - 1)) + 1];
+  if (std::find(start.begin() + 1, start.end(), m) != start.end()) {  // one digit: nothing moves
+    sort_small(s, {r.begin, r.end, r.side, shift});
+    return;
+  }
+  for (std::size_t d = 0; d < radix; ++d) start[d + 1] += start[d];
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  const int other = 1 - r.side;
+  std::uint64_t* out_codes = s.codes[other] + r.begin;
+  std::int32_t* out_values = s.values[other] + r.begin;
+  for (std::size_t i = r.begin; i < r.end; ++i) {
+    const std::uint32_t slot = next[(codes[i] >> shift) & (radix - 1)]++;
+    out_codes[slot] = codes[i];
+    out_values[slot] = values[i];
+  }
+  for (std::size_t d = 0; d < radix; ++d) {
+    sort_small(s, {r.begin + start[d], r.begin + start[d + 1], other, shift});
+  }
+}
+
+// Distributes a large range on its next 12 bits with all threads (each chunk counts, then
+// scatters stably), recursing into buckets that are still large; collects the rest as tasks.
+void sort_large(const Sides& s, const Range& r, std::size_t large, std::vector<Range>& tasks) {
+  const std::size_t m = r.end - r.begin;
+  if (m <= large || r.shift == 0) {
+    tasks.push_back(r);
+    return;
+  }
+  const int bits = std::min(12, r.shift);
+  const int shift = r.shift - bits;
+  const std::size_t radix = std::size_t{1} << bits;
+  const std::size_t chunks = chunk_count(m);
+  const std::uint64_t* codes = s.codes[r.side];
+  const std::int32_t* values = s.values[r.side];
+  std::vector<std::uint32_t> count(chunks * radix, 0);
+  parallel_chunks(m, chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::uint32_t* mine = count.data() + c * radix;
+    for (std::size_t i = r.begin + begin; i < r.begin + end; ++i) ++mine[(codes[i] >> shift) & (radix - 1)];
+  });
+  // Bucket d starts after every smaller digit; within it, chunk c after chunks < c.
+  std::vector<std::size_t> bucket_start(radix + 1, 0);
+  std::size_t sum = 0;
+  for (std::size_t d = 0; d < radix; ++d) {
+    bucket_start[d] = sum;
+    for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(count[c * radix + d], static_cast<std::uint32_t>(sum));
+  }
+  bucket_start[radix] = sum;
+  for (std::size_t d = 0; d < radix; ++d) {
+    if (bucket_start[d + 1] - bucket_start[d] == m) {  // one digit: nothing moves
+      sort_large(s, {r.begin, r.end, r.side, shift}, large, tasks);
+      return;
+    }
+  }
+  const int other = 1 - r.side;
+  std::uint64_t* out_codes = s.codes[other] + r.begin;
+  std::int32_t* out_values = s.values[other] + r.begin;
+  parallel_chunks(m, chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::uint32_t* next = count.data() + c * radix;
+    for (std::size_t i = r.begin + begin; i < r.begin + end; ++i) {
+      const std::uint32_t slot = next[(codes[i] >> shift) & (radix - 1)]++;
+      out_codes[slot] = codes[i];
+      out_values[slot] = values[i];
+    }
+  });
+  for (std::size_t d = 0; d < radix; ++d) {
+    sort_large(s, {r.begin + bucket_start[d], r.begin + bucket_start[d + 1], other, shift}, large, tasks);
+  }
+}
+
+}  // namespace
+
+void sort_by_code_sequential(std::uint64_t* codes, std::int32_t* values, std::uint64_t* scratch_codes,
+                             std::int32_t* scratch_values, std::size_t m, int shift) {
+  sort_small({{codes, scratch_codes}, {values, scratch_values}}, {0, m, 0, shift});
+}
+
+void sort_by_code(HostVector<std::uint64_t>& codes, HostVector<std::int32_t>& values) {
+  const std::size_t n = codes.size();
+  if (n < 2) return;
+  // Slot counters are 32-bit: n < 2^31 (prepare_sites refuses more).
+  HostVector<std::uint64_t> codes_tmp(n);
+  HostVector<std::int32_t> values_tmp(n);
+  const Sides sides{{codes.data(), codes_tmp.data()}, {values.data(), values_tmp.data()}};
+  // Ranges above `large` are split with all threads; the rest are sorted one per thread.
+  const std::size_t large = std::max<std::size_t>(std::size_t{1} << 16, n / (8 * host_threads()));
+  std::vector<Range> tasks;
+  sort_large(sides, {0, n, 0, 2 * Quantiser::bits}, large, tasks);
+  parallel_tasks(tasks.size(), [&](std::size_t t) { sort_small(sides, tasks[t]); });
 }
 
 }  // namespace expanse::detail

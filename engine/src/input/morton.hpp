@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "input/parallel.hpp"
 #include "input/site_set.hpp"
 
 namespace expanse::detail {
@@ -28,10 +29,27 @@ struct Quantiser {
 };
 
 /// Interleaves x (even bits) and y (odd bits).
-std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy);
+inline std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
+  const auto spread = [](std::uint32_t v) {
+    std::uint64_t x = v;
+    x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+    x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+    x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    x = (x | (x << 2)) & 0x3333333333333333ull;
+    x = (x | (x << 1)) & 0x5555555555555555ull;
+    return x;
+  };
+  return spread(qx) | (spread(qy) << 1);
+}
 
-/// Sorts (codes, values) by code, stably (LSD radix sort).
-void sort_by_code(std::vector<std::uint64_t>& codes, std::vector<std::int32_t>& values);
+/// Sorts (codes, values) by code, stably: equal codes keep their order. codes must be
+/// 2 * Quantiser::bits wide. Radix sort, most significant digits first, on all host threads.
+void sort_by_code(HostVector<std::uint64_t>& codes, HostVector<std::int32_t>& values);
+
+/// sort_by_code on the calling thread for m elements whose codes all agree in the bits at and
+/// above `shift`; scratch_codes and scratch_values hold m elements each.
+void sort_by_code_sequential(std::uint64_t* codes, std::int32_t* values, std::uint64_t* scratch_codes,
+                             std::int32_t* scratch_values, std::size_t m, int shift);
 
 
 }  // namespace expanse::detail

@@ -46,16 +46,20 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     throw Error(ErrorCode::too_large, "at most 2^31 - 1 points are supported, got " +
                                           std::to_string(input.size()));
   }
-  // Validation and the magnitude range, per chunk; chunk order makes the first bad point the
-  // one reported.
   const std::size_t n = input.size();
-  struct Range {
+  const std::size_t chunks = chunk_count(n);
+
+  // 1. Validation, the magnitude range and the bounding box, per chunk; chunk order makes the
+  // first bad point the one reported. The box is taken before scaling: scaling by 2^e is exact
+  // and monotone, so it commutes with min and max (ties keep the first point either way).
+  struct Scan {
     double max_abs = 0.0;
     double min_nonzero_abs = std::numeric_limits<double>::infinity();
+    Box box{};
   };
-  std::vector<Range> ranges(chunk_count(n));
-  parallel_chunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-    Range r;
+  std::vector<Scan> scans(chunks);
+  parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    Scan r;
     for (std::size_t i = begin; i < end; ++i) {
       const Point2& p = input[i];
       if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw_non_finite(i, p);
@@ -63,86 +67,191 @@ SiteSet prepare_sites(std::span<const Point2> input) {
         if (v > r.max_abs) r.max_abs = v;
         if (v != 0.0 && v < r.min_nonzero_abs) r.min_nonzero_abs = v;
       }
+      if (i == begin) r.box = {p.x, p.y, p.x, p.y};
+      r.box.min_x = std::min(r.box.min_x, p.x);
+      r.box.max_x = std::max(r.box.max_x, p.x);
+      r.box.min_y = std::min(r.box.min_y, p.y);
+      r.box.max_y = std::max(r.box.max_y, p.y);
     }
-    ranges[chunk] = r;
+    scans[chunk] = r;
   });
   double max_abs = 0.0;
   double min_nonzero_abs = std::numeric_limits<double>::infinity();
-  for (const Range& r : ranges) {
+  Box box = scans[0].box;
+  for (const Scan& r : scans) {
     max_abs = std::max(max_abs, r.max_abs);
     min_nonzero_abs = std::min(min_nonzero_abs, r.min_nonzero_abs);
+    box.min_x = std::min(box.min_x, r.box.min_x);
+    box.max_x = std::max(box.max_x, r.box.max_x);
+    box.min_y = std::min(box.min_y, r.box.min_y);
+    box.max_y = std::max(box.max_y, r.box.max_y);
   }
 
   SiteSet sites;
-  sites.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
-  std::vector<Point2> scaled(n);
-  std::vector<Box> boxes(ranges.size());
-  parallel_chunks(n, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-    Box box{};
-    for (std::size_t i = begin; i < end; ++i) {
-      scaled[i] = {std::ldexp(input[i].x, sites.scale_exponent), std::ldexp(input[i].y, sites.scale_exponent)};
-      if (i == begin) box = {scaled[i].x, scaled[i].y, scaled[i].x, scaled[i].y};
-      box.min_x = std::min(box.min_x, scaled[i].x);
-      box.max_x = std::max(box.max_x, scaled[i].x);
-      box.min_y = std::min(box.min_y, scaled[i].y);
-      box.max_y = std::max(box.max_y, scaled[i].y);
-    }
-    boxes[chunk] = box;
-  });
-  Box box = boxes.empty() ? Box{} : boxes[0];
-  for (const Box& b : boxes) {
-    box.min_x = std::min(box.min_x, b.min_x);
-    box.max_x = std::max(box.max_x, b.max_x);
-    box.min_y = std::min(box.min_y, b.min_y);
-    box.max_y = std::max(box.max_y, b.max_y);
+  const int e = exact_scale_exponent(max_abs, min_nonzero_abs);
+  sites.scale_exponent = e;
+  // Multiplying by 2^e rounds x * 2^e once, as ldexp does: the same double (and exact here).
+  const double factor = e <= 1023 ? std::ldexp(1.0, e) : 0.0;
+  const auto scaled = [e, factor](const Point2& p) {
+    if (e <= 1023) return Point2{p.x * factor, p.y * factor};
+    return Point2{std::ldexp(p.x, e), std::ldexp(p.y, e)};
+  };
+  if (n > 0) {
+    const Point2 low = scaled({box.min_x, box.min_y}), high = scaled({box.max_x, box.max_y});
+    box = {low.x, low.y, high.x, high.y};
   }
   sites.bounds = box;
 
-  // Morton order, stable: equal points share a code, so each group of duplicates ends up in one
-  // run of equal codes, its smallest input index first.
+  // 2. Morton order, stable: equal points share a code, so each group of duplicates ends up in
+  // one run of equal codes, its smallest input index first. The scaled points travel with the
+  // sort (no random gather afterwards): one pass distributes them on the top bits of their
+  // codes straight into sites.points and sites.input_index, stably; then each bucket is sorted
+  // on the remaining bits where it lies.
   const Quantiser quantiser(box);
-  std::vector<std::uint64_t> codes(n);
-  std::vector<std::int32_t> order(n);
-  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
+  const auto code_of = [&quantiser](const Point2& p) { return morton_code(quantiser.x(p.x), quantiser.y(p.y)); };
+  constexpr int code_bits = 2 * Quantiser::bits;
+  // Few enough buckets that the distribution writes each one's next cache line before it is
+  // evicted (a few hundred streams per thread), so each holds about 2^16 sites.
+  int top_bits = 1;
+  while (top_bits < 10 && (n >> (top_bits + 16)) > 0) ++top_bits;
+  const int below = code_bits - top_bits;
+  const std::size_t buckets = std::size_t{1} << top_bits;
+  std::vector<std::uint32_t> next(chunks * buckets, 0);
+  parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::uint32_t* mine = next.data() + chunk * buckets;
+    for (std::size_t i = begin; i < end; ++i) ++mine[code_of(scaled(input[i])) >> below];
+  });
+  std::vector<std::size_t> bucket_start(buckets + 1, 0);
+  {
+    std::size_t sum = 0;
+    for (std::size_t d = 0; d < buckets; ++d) {
+      bucket_start[d] = sum;
+      for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(next[c * buckets + d], static_cast<std::uint32_t>(sum));
+    }
+    bucket_start[buckets] = sum;
+  }
+  sites.points.resize(n);
+  sites.input_index.resize(n);
+  parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::uint32_t* mine = next.data() + chunk * buckets;
     for (std::size_t i = begin; i < end; ++i) {
-      codes[i] = morton_code(quantiser.x(scaled[i].x), quantiser.y(scaled[i].y));
-      order[i] = static_cast<std::int32_t>(i);
+      const Point2 p = scaled(input[i]);
+      const std::uint32_t slot = mine[code_of(p) >> below]++;
+      sites.points[slot] = p;
+      sites.input_index[slot] = static_cast<std::int32_t>(i);
     }
   });
-  sort_by_code(codes, order);
-
-  // Gather into sorted order (the random reads happen here, spread over the threads), then
-  // merge duplicates in one sequential pass and scatter the representatives back.
-  std::vector<Point2> sorted(n);
-  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) sorted[k] = scaled[order[k]];
+  // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
+  // by (code, input index).
+  const std::size_t large = std::max<std::size_t>(std::size_t{1} << 16, n / (4 * host_threads()));
+  std::vector<std::size_t> small, big;
+  for (std::size_t d = 0; d < buckets; ++d) {
+    const std::size_t m = bucket_start[d + 1] - bucket_start[d];
+    if (m > large) big.push_back(d);
+    else if (m > 1) small.push_back(d);
+  }
+  parallel_tasks(small.size(), [&](std::size_t task) {
+    const std::size_t lo = bucket_start[small[task]], m = bucket_start[small[task] + 1] - lo;
+    thread_local std::vector<std::uint64_t> codes, codes_scratch;
+    thread_local std::vector<std::int32_t> position, position_scratch, index;
+    thread_local std::vector<Point2> points;
+    for (auto* v : {&codes, &codes_scratch}) v->resize(std::max(v->size(), m));
+    for (auto* v : {&position, &position_scratch, &index}) v->resize(std::max(v->size(), m));
+    points.resize(std::max(points.size(), m));
+    for (std::size_t j = 0; j < m; ++j) {
+      points[j] = sites.points[lo + j];
+      index[j] = sites.input_index[lo + j];
+      codes[j] = code_of(points[j]);
+      position[j] = static_cast<std::int32_t>(j);
+    }
+    sort_by_code_sequential(codes.data(), position.data(), codes_scratch.data(), position_scratch.data(), m, below);
+    for (std::size_t k = 0; k < m; ++k) {
+      sites.points[lo + k] = points[position[k]];
+      sites.input_index[lo + k] = index[position[k]];
+    }
   });
-  std::vector<Point2>().swap(scaled);
-  std::vector<std::int32_t> representative_of_sorted(n);
-  sites.points.reserve(n);
-  sites.input_index.reserve(n);
-  std::size_t run_start_site = 0;  // first site of the current run of equal codes
-  for (std::size_t k = 0; k < n; ++k) {
-    if (k == 0 || codes[k] != codes[k - 1]) run_start_site = sites.points.size();
-    const std::int32_t i = order[k];
-    const Point2 p = sorted[k];
-    std::int32_t representative = i;
-    for (std::size_t s = run_start_site; s < sites.points.size(); ++s) {  // runs are tiny
-      if (sites.points[s].x == p.x && sites.points[s].y == p.y) {
-        representative = sites.input_index[s];
-        break;
+  for (const std::size_t d : big) {  // skewed inputs: a bucket too large for one thread
+    const std::size_t lo = bucket_start[d], m = bucket_start[d + 1] - lo;
+    HostVector<std::uint64_t> codes(m);
+    HostVector<std::int32_t> position(m), index(m);
+    HostVector<Point2> points(m);
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) {
+        points[j] = sites.points[lo + j];
+        index[j] = sites.input_index[lo + j];
+        codes[j] = code_of(points[j]);
+        position[j] = static_cast<std::int32_t>(j);
+      }
+    });
+    sort_by_code(codes, position);
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        sites.points[lo + k] = points[position[k]];
+        sites.input_index[lo + k] = index[position[k]];
+      }
+    });
+  }
+
+  // 3. Duplicates: sorted position k repeats an earlier point when some position of its run of
+  // equal codes before it holds an equal point; the first such position represents it. Runs
+  // are short and may cross chunk boundaries (the arrays are only read here).
+  const auto& sorted = sites.points;
+  const auto same_code = [&](std::size_t j, std::size_t k) {
+    return quantiser.x(sorted[j].x) == quantiser.x(sorted[k].x) && quantiser.y(sorted[j].y) == quantiser.y(sorted[k].y);
+  };
+  // First position of k's run with a point equal to k's (k itself when it is a new site).
+  const auto first_equal = [&](std::size_t run_start, std::size_t k) {
+    std::size_t j = run_start;
+    while (j < k && !(sorted[j].x == sorted[k].x && sorted[j].y == sorted[k].y)) ++j;
+    return j;
+  };
+  const auto run_start_of = [&](std::size_t k) {
+    while (k > 0 && same_code(k - 1, k)) --k;
+    return k;
+  };
+  std::vector<std::size_t> repeats(chunks + 1, 0);
+  parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::size_t count = 0;
+    std::size_t run_start = begin < end ? run_start_of(begin) : begin;
+    for (std::size_t k = begin; k < end; ++k) {
+      if (k > 0 && !same_code(k - 1, k)) {
+        run_start = k;
+        continue;
+      }
+      if (k > run_start && first_equal(run_start, k) < k) ++count;
+    }
+    repeats[chunk + 1] = count;
+  });
+  for (std::size_t c = 0; c < chunks; ++c) repeats[c + 1] += repeats[c];
+
+  resize_prefaulted(sites.representative, n);
+  if (repeats[chunks] == 0) {  // every point is distinct (the usual case)
+    parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) sites.representative[i] = static_cast<std::int32_t>(i);
+    });
+    return sites;
+  }
+  // Sites are the positions that repeat nothing, in order; chunk c's first one is site
+  // begin - repeats[c].
+  const std::size_t site_count = n - repeats[chunks];
+  HostVector<Point2> points(site_count);
+  HostVector<std::int32_t> input_index(site_count);
+  parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::size_t site = begin - repeats[chunk];
+    std::size_t run_start = begin < end ? run_start_of(begin) : begin;
+    for (std::size_t k = begin; k < end; ++k) {
+      if (k > 0 && !same_code(k - 1, k)) run_start = k;
+      const std::size_t j = first_equal(run_start, k);
+      sites.representative[sites.input_index[k]] = sites.input_index[j];
+      if (j == k) {
+        points[site] = sorted[k];
+        input_index[site] = sites.input_index[k];
+        ++site;
       }
     }
-    representative_of_sorted[k] = representative;
-    if (representative == i) {
-      sites.points.push_back(p);
-      sites.input_index.push_back(i);
-    }
-  }
-  sites.representative.resize(n);
-  parallel_chunks(n, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) sites.representative[order[k]] = representative_of_sorted[k];
   });
+  sites.points = std::move(points);
+  sites.input_index = std::move(input_index);
   return sites;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "expanse/types.hpp"
+#include "input/parallel.hpp"
 
 namespace expanse::detail {
 
@@ -15,10 +16,11 @@ struct Box {
 struct SiteSet {
   /// Distinct sites multiplied by 2^scale_exponent (exact), in Morton order: sites near in the
   /// plane are near in memory, so every later stage walks memory mostly in order.
-  std::vector<Point2> points;
+  HostVector<Point2> points;
   /// site -> input index of the point it represents (its first occurrence).
-  std::vector<std::int32_t> input_index;
-  /// input index -> input index of its representative.
+  HostVector<std::int32_t> input_index;
+  /// input index -> input index of its representative (a std::vector: it becomes
+  /// Mesh::representative).
   std::vector<std::int32_t> representative;
   /// Power of two the input was scaled by, so that the largest |coordinate| lies in [0.5, 1).
   int scale_exponent = 0;
