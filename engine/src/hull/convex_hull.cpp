@@ -4,6 +4,7 @@
 #include <array>
 #include <limits>
 
+#include "input/parallel.hpp"
 #include "predicates/predicates.hpp"
 
 namespace expanse::detail {
@@ -20,15 +21,35 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
   // direction dot products; exact ties do not matter for correctness.
   constexpr std::array<std::array<double, 2>, 8> directions = {{
       {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}}};
+  // Per chunk, then over chunks in order: the first site with the largest value, as one pass.
+  struct Extremes {
+    std::array<std::int32_t, 8> site{};
+    std::array<double, 8> best{};
+  };
+  const std::size_t chunks = chunk_count(static_cast<std::size_t>(n));
+  std::vector<Extremes> found(chunks);
+  parallel_chunks(static_cast<std::size_t>(n), chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    Extremes e;
+    e.best.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = begin; i < end; ++i) {
+      for (int d = 0; d < 8; ++d) {
+        const double v = directions[d][0] * p[i].x + directions[d][1] * p[i].y;
+        if (v > e.best[d]) {
+          e.best[d] = v;
+          e.site[d] = static_cast<std::int32_t>(i);
+        }
+      }
+    }
+    found[chunk] = e;
+  });
   std::array<std::int32_t, 8> extreme{};
   std::array<double, 8> best{};
   best.fill(-std::numeric_limits<double>::infinity());
-  for (std::int32_t i = 0; i < n; ++i) {
+  for (const Extremes& e : found) {
     for (int d = 0; d < 8; ++d) {
-      const double v = directions[d][0] * p[i].x + directions[d][1] * p[i].y;
-      if (v > best[d]) {
-        best[d] = v;
-        extreme[d] = i;
+      if (e.best[d] > best[d]) {
+        best[d] = e.best[d];
+        extreme[d] = e.site[d];
       }
     }
   }
@@ -65,16 +86,26 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
       }
     }
   }
-  std::vector<std::int32_t> candidates;
-  candidates.reserve(usable ? 1024 : n);
-  for (std::int32_t i = 0; i < n; ++i) {
-    if (p[i].x > inner_x0 && p[i].x < inner_x1 && p[i].y > inner_y0 && p[i].y < inner_y1) continue;
-    bool strictly_inside = usable;
-    for (std::size_t k = 0; strictly_inside && k < m; ++k) {
-      strictly_inside = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[i]) > 0;
+  // Per chunk, concatenated in chunk order: the sites in increasing order, as one pass.
+  std::vector<std::vector<std::int32_t>> kept(chunks);
+  parallel_chunks(static_cast<std::size_t>(n), chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    auto& mine = kept[chunk];
+    if (!usable) mine.reserve(end - begin);
+    for (std::size_t i = begin; i < end; ++i) {
+      if (p[i].x > inner_x0 && p[i].x < inner_x1 && p[i].y > inner_y0 && p[i].y < inner_y1) continue;
+      bool strictly_inside = usable;
+      for (std::size_t k = 0; strictly_inside && k < m; ++k) {
+        strictly_inside = orient2d(p[polygon[k]], p[polygon[(k + 1) % m]], p[i]) > 0;
+      }
+      if (!strictly_inside) mine.push_back(static_cast<std::int32_t>(i));
     }
-    if (!strictly_inside) candidates.push_back(i);
-  }
+  });
+  if (chunks == 1) return std::move(kept[0]);
+  std::vector<std::int32_t> candidates;
+  std::size_t total = 0;
+  for (const auto& part : kept) total += part.size();
+  candidates.reserve(total);
+  for (const auto& part : kept) candidates.insert(candidates.end(), part.begin(), part.end());
   return candidates;
 }
 
@@ -83,7 +114,11 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
 Hull convex_hull(const SiteSet& sites) {
   const auto& p = sites.points;
   Hull hull;
-  hull.predecessor.assign(p.size(), -1);
+  hull.predecessor.resize(p.size());
+  parallel_chunks(p.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
+              hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);
+  });
   if (p.empty()) return hull;
 
   std::vector<std::int32_t> order = hull_candidates(sites);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "input/parallel.hpp"
 #include "input/site_set.hpp"
 
 namespace expanse::detail {
@@ -14,7 +15,7 @@ struct Hull {
   std::vector<std::int32_t> sites;
   bool collinear = false;
   /// predecessor[s]: the hull site before s in CCW order, or -1 when s is not on the hull.
-  std::vector<std::int32_t> predecessor;
+  HostVector<std::int32_t> predecessor;
 
   /// True for the directed edge a->b that has no site on its left, i.e. a hull edge walked
   /// clockwise (b == predecessor[a]). Such an edge never has an apex.

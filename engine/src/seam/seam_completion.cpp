@@ -1,10 +1,12 @@
 #include "seam/seam_completion.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <string>
 
 #include "expanse/error.hpp"
 #include "grid/apex_search.hpp"
+#include "input/parallel.hpp"
 #include "seam/edge_map.hpp"
 
 namespace expanse::detail {
@@ -102,33 +104,97 @@ class FrontGrowth {
 }  // namespace
 
 std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Triangle>& triangles) {
-  // Each directed edge x->y is filed under x (compressed rows, no hashing: a device can hand over
-  // millions of triangles); its twin y->x is then among the few edges filed under y.
-  std::vector<std::array<std::int32_t, 3>> neighbors(triangles.size(), {no_neighbor, no_neighbor, no_neighbor});
-  std::int32_t vertices = 0;
-  for (const Triangle& t : triangles) vertices = std::max({vertices, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::int32_t> start(static_cast<std::size_t>(vertices) + 1, 0);
-  for (const Triangle& t : triangles) {
-    for (std::int32_t v : t) ++start[v + 1];
+  // Around vertex v, the edge v->w of one triangle pairs with the edge w->v of another. Corners
+  // (triangle * 3 + slot) are distributed by vertex block, stably (each chunk of triangles
+  // counts, then scatters); each block then files its corners by vertex and matches each pair
+  // once, at its smaller vertex. Every link is written by exactly one thread; no atomics.
+  const std::size_t count = triangles.size();
+  std::vector<std::array<std::int32_t, 3>> neighbors;
+  resize_prefaulted(neighbors, count);
+  const std::size_t chunks = chunk_count(count);
+  std::vector<std::int32_t> largest(chunks, -1);
+  parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::int32_t v_max = -1;
+    for (std::size_t t = begin; t < end; ++t) {
+      neighbors[t] = {no_neighbor, no_neighbor, no_neighbor};
+      v_max = std::max({v_max, triangles[t][0], triangles[t][1], triangles[t][2]});
+    }
+    largest[chunk] = v_max;
+  });
+  const std::size_t vertices = static_cast<std::size_t>(*std::max_element(largest.begin(), largest.end()) + 1);
+  if (vertices == 0) return neighbors;
+  int block_bits = 12;  // a few hundred blocks: few scatter streams, blocks that fit in cache
+  while ((vertices >> block_bits) > 512) ++block_bits;
+  const std::size_t blocks = ((vertices - 1) >> block_bits) + 1;
+  std::vector<std::uint32_t> next(chunks * blocks, 0);
+  parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::uint32_t* mine = next.data() + chunk * blocks;
+    for (std::size_t t = begin; t < end; ++t) {
+      for (const std::int32_t v : triangles[t]) ++mine[static_cast<std::uint32_t>(v) >> block_bits];
+    }
+  });
+  std::vector<std::size_t> block_start(blocks + 1, 0);
+  std::size_t sum = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    block_start[b] = sum;
+    for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(next[c * blocks + b], static_cast<std::uint32_t>(sum));
   }
-  for (std::size_t v = 0; v < static_cast<std::size_t>(vertices); ++v) start[v + 1] += start[v];
-  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
-  std::vector<std::int32_t> edges(3 * triangles.size());  // triangle * 3 + slot of the edge
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) edges[fill[triangles[t][(k + 1) % 3]]++] = static_cast<std::int32_t>(3 * t + k);
-  }
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t x = triangles[t][(k + 1) % 3], y = triangles[t][(k + 2) % 3];
-      for (std::int32_t e = start[y]; e < start[y + 1]; ++e) {
-        const std::int32_t u = edges[e] / 3, j = edges[e] % 3;
-        if (triangles[u][(j + 2) % 3] == x) {
-          neighbors[t][k] = u;
+  block_start[blocks] = sum;
+  HostVector<std::int32_t> corners(3 * count);
+  parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    std::uint32_t* mine = next.data() + chunk * blocks;
+    for (std::size_t t = begin; t < end; ++t) {
+      for (int k = 0; k < 3; ++k) {
+        corners[mine[static_cast<std::uint32_t>(triangles[t][k]) >> block_bits]++] = static_cast<std::int32_t>(3 * t + k);
+      }
+    }
+  });
+  parallel_tasks(blocks, [&](std::size_t b) {
+    const std::size_t first_vertex = b << block_bits;
+    const std::size_t span = std::min(vertices - first_vertex, std::size_t{1} << block_bits);
+    const std::int32_t* mine = corners.data() + block_start[b];
+    const std::size_t m = block_start[b + 1] - block_start[b];
+    thread_local std::vector<std::uint32_t> start;
+    // Per corner filed by vertex: the vertex after it (its edge leaves v towards it) and the
+    // vertex before it (its edge comes from there), with the corner. Each triangle is read once
+    // (its corners of one block arrive in no useful order).
+    struct Corner {
+      std::int32_t next, previous, corner;
+    };
+    thread_local std::vector<Corner> read, filed;
+    thread_local std::vector<std::uint32_t> vertex_of;
+    start.assign(span + 1, 0);
+    for (auto* v : {&read, &filed}) v->resize(std::max(v->size(), m));
+    vertex_of.resize(std::max(vertex_of.size(), m));
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::int32_t c = mine[i];
+      const Triangle& tri = triangles[c / 3];
+      const int k = c % 3;
+      const auto v = static_cast<std::uint32_t>(static_cast<std::size_t>(tri[k]) - first_vertex);
+      vertex_of[i] = v;
+      read[i] = {tri[(k + 1) % 3], tri[(k + 2) % 3], c};
+      ++start[v + 1];
+    }
+    for (std::size_t v = 0; v < span; ++v) start[v + 1] += start[v];
+    for (std::size_t i = 0; i < m; ++i) filed[start[vertex_of[i]]++] = read[i];
+    // start[v] is now where v's corners end; they begin at start[v - 1].
+    for (std::size_t v = 0; v < span; ++v) {
+      const std::int32_t self = static_cast<std::int32_t>(first_vertex + v);
+      const std::uint32_t begin = v == 0 ? 0 : start[v - 1], end = start[v];
+      for (std::uint32_t a = begin; a < end; ++a) {
+        const std::int32_t w = filed[a].next;  // triangle t holds self->w opposite slot k + 2
+        if (w < self) continue;                // matched at w
+        for (std::uint32_t z = begin; z < end; ++z) {
+          if (filed[z].previous != w) continue;  // triangle u holds w->self opposite slot j + 1
+          const std::int32_t t = filed[a].corner / 3, k = filed[a].corner % 3;
+          const std::int32_t u = filed[z].corner / 3, j = filed[z].corner % 3;
+          neighbors[t][(k + 2) % 3] = u;
+          neighbors[u][(j + 1) % 3] = t;
           break;
         }
       }
     }
-  }
+  });
   return neighbors;
 }
 
@@ -136,8 +202,8 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
                         PartialTriangulation& mesh) {
   if (mesh.neighbors.size() != mesh.triangles.size()) mesh.neighbors = derive_neighbors(mesh.triangles);
   const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
-  mesh.triangles.reserve(expected);
-  mesh.neighbors.reserve(expected);
+  reserve_prefaulted(mesh.triangles, expected);
+  reserve_prefaulted(mesh.neighbors, expected);
 
   FrontGrowth growth(sites, hull, tree, mesh);
   SeamStats stats;
@@ -150,11 +216,22 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
     growth.seed(s, search.nearest_neighbor(s));
     stats.open_edges = 2;
   } else {
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (int k = 0; k < 3; ++k) {
-        if (mesh.neighbors[t][k] != no_neighbor) continue;
-        const std::int32_t x = mesh.triangles[t][(k + 1) % 3], y = mesh.triangles[t][(k + 2) % 3];
-        if (growth.open(y, x, pack(static_cast<std::int32_t>(t), k))) ++stats.open_edges;
+    // The open edges in triangle order, found on all threads, queued in that order.
+    const std::size_t count = mesh.triangles.size();
+    const std::size_t chunks = chunk_count(count);
+    std::vector<std::vector<std::int64_t>> open(chunks);
+    parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t) {
+        for (int k = 0; k < 3; ++k) {
+          if (mesh.neighbors[t][k] == no_neighbor) open[chunk].push_back(pack(static_cast<std::int32_t>(t), k));
+        }
+      }
+    });
+    for (const auto& edges : open) {
+      for (const std::int64_t edge : edges) {
+        const Triangle& tri = mesh.triangles[triangle_of(edge)];
+        const std::int32_t x = tri[(slot_of(edge) + 1) % 3], y = tri[(slot_of(edge) + 2) % 3];
+        if (growth.open(y, x, edge)) ++stats.open_edges;
       }
     }
   }
