@@ -27,5 +27,6 @@ Tally& tally();
 void test_predicates();
 void test_eft();
 void test_backend();
+void test_stars();
 
 }  // namespace expanse::vulkan_tests

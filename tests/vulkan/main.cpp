@@ -1,4 +1,4 @@
-// expanse_vulkan_tests <predicates|eft|backend|all>
+// expanse_vulkan_tests <predicates|eft|backend|stars|all>
 #include <cstring>
 #include <exception>
 
@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     if (all || std::strcmp(suite, "predicates") == 0) vulkan_tests::test_predicates();
     if (all || std::strcmp(suite, "eft") == 0) vulkan_tests::test_eft();
     if (all || std::strcmp(suite, "backend") == 0) vulkan_tests::test_backend();
+    if (all || std::strcmp(suite, "stars") == 0) vulkan_tests::test_stars();
   } catch (const std::exception& e) {
     std::printf("FAILED with exception: %s\n", e.what());
     return 1;

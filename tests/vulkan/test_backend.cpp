@@ -4,7 +4,10 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <cstdint>
+#include <cstdlib>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -144,7 +147,93 @@ void check_device_adjacency(const Input& input) {
               input.name.c_str(), tris.size(), links, partial.deferred_expansions);
 }
 
+// Exactly the CPU backend's triangles, through the pipeline; and the backend's own adjacency
+// (before the pipeline) consistent with its triangles: every link crosses a shared edge and
+// links back, and a slot is no_neighbor exactly when no emitted triangle lies across.
+void check_large(const std::string& name, const std::vector<Point2>& points,
+                 const std::vector<Triangle>& expected, bool staged) {
+  setenv("EXPANSE_VULKAN_STAGED", staged ? "1" : "0", 1);
+  const char* path = staged ? "staged" : "in place";
+  Options vk;
+  vk.backend = BackendKind::vulkan;
+  const Mesh mesh = triangulate(points, vk);
+  VK_CHECK_THAT(canonical(mesh.triangles) == expected, "%s, %s: %zu triangles, CPU %zu",
+                name.c_str(), path, mesh.triangles.size(), expected.size());
+  VK_CHECK_THAT(mesh.stats.gpu_triangles * 100 >= mesh.triangles.size() * 99,
+                "%s, %s: only %zu of %zu triangles made on the device", name.c_str(), path,
+                mesh.stats.gpu_triangles, mesh.triangles.size());
+
+  const detail::SiteSet sites = detail::prepare_sites(points);
+  const detail::Hull hull = detail::convex_hull(sites);
+  const Layout layout{};
+  const detail::GrowResult grown = detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
+  const auto& tris = grown.partial.triangles;
+  const auto& nbrs = grown.partial.neighbors;
+  VK_CHECK_THAT(nbrs.size() == tris.size(), "%s, %s: %zu neighbour rows for %zu triangles",
+                name.c_str(), path, nbrs.size(), tris.size());
+  if (nbrs.size() != tris.size()) return;
+  auto key = [](std::int32_t x, std::int32_t y) { return (std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y); };
+  std::unordered_map<std::uint64_t, std::int32_t> edge_owner;  // directed edge -> triangle
+  edge_owner.reserve(3 * tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) edge_owner[key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3])] = std::int32_t(t);
+  std::size_t wrong = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto across = edge_owner.find(key(tris[t][(k + 2) % 3], tris[t][(k + 1) % 3]));
+      const std::int32_t want = across == edge_owner.end() ? no_neighbor : across->second;
+      if (nbrs[t][k] != want && wrong++ < 3)
+        VK_CHECK_THAT(false, "%s, %s: triangle %zu slot %d links %d, expected %d", name.c_str(), path,
+                      t, k, nbrs[t][k], want);
+    }
+  VK_CHECK_THAT(wrong == 0, "%s, %s: %zu wrong adjacency slots", name.c_str(), path, wrong);
+  std::printf("  %-44s %-9s triangles %7zu  gpu %7zu  seam %5zu  deferred %4zu\n", name.c_str(),
+              path, mesh.triangles.size(), mesh.stats.gpu_triangles, mesh.stats.seam_triangles,
+              mesh.stats.deferred_expansions);
+}
+
 }  // namespace
+
+// The per-site layout where its host passes run on all threads (>= 65536 sites), where the grid
+// is sized by crowding (clusters), and past lavapipe's dispatch split (65535 workgroups of 8
+// sites), on both paths: in place (CPU devices) and staged (GPUs: copies, star_links.comp).
+void test_stars() {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<std::pair<std::string, std::vector<Point2>>> cases;
+  {
+    std::vector<Point2> p(100000);
+    for (auto& q : p) q = {unit(rng), unit(rng)};
+    cases.emplace_back("uniform 100000", std::move(p));
+  }
+  {
+    std::vector<Point2> p(100000);
+    for (auto& q : p) q = {normal(rng), normal(rng)};
+    cases.emplace_back("gaussian 100000", std::move(p));
+  }
+  {
+    // Two clusters far apart and a few sites between: the grid is sized by the clusters'
+    // density (the crowding factor reaches its cap), not by the mean over the empty box.
+    std::vector<Point2> p;
+    for (int k = 0; k < 30000; ++k) p.push_back({normal(rng), normal(rng)});
+    for (int k = 0; k < 30000; ++k) p.push_back({100 + normal(rng), 50 + normal(rng)});
+    for (int k = 0; k < 200; ++k) p.push_back({100 * unit(rng), 50 * unit(rng)});
+    cases.emplace_back("two clusters 60000 + 200 between", std::move(p));
+  }
+  {
+    std::vector<Point2> p(530000);
+    for (auto& q : p) q = {unit(rng), unit(rng)};
+    cases.emplace_back("uniform 530000 (two dispatches on lavapipe)", std::move(p));
+  }
+  for (const auto& [name, points] : cases) {
+    Options cpu;
+    cpu.backend = BackendKind::cpu;
+    const auto expected = canonical(triangulate(points, cpu).triangles);
+    for (bool staged : {false, true}) check_large(name, points, expected, staged);
+  }
+  unsetenv("EXPANSE_VULKAN_STAGED");
+}
 
 void test_backend() {
   for (const Input& input : inputs()) check_device_adjacency(input);

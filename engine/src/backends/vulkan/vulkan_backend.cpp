@@ -366,7 +366,10 @@ class VulkanBackend final : public Backend {
     // with no staging copies, and the adjacency is derived from the stars on the host, where
     // pointer chasing costs a load instead of a loop over the SIMD lanes.
     const bool cpu_device = ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    const bool in_place = cpu_device;
+    // EXPANSE_VULKAN_STAGED=1 takes the GPU path on any device (staging copies, star_links.comp):
+    // the tests use it to run that path on lavapipe.
+    const char* staged = std::getenv("EXPANSE_VULKAN_STAGED");
+    const bool in_place = cpu_device && !(staged && std::strcmp(staged, "0") != 0 && *staged);
 
     auto start = Clock::now();
     const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
@@ -515,95 +518,105 @@ class VulkanBackend final : public Backend {
     }
   }
 
-  // The host twin of star_links.comp, over the stars in place: the same derivation, the same
-  // output. Every id read is checked, so a faulty device cannot make the host misbehave.
+  // A star as the host reads it (star_common.glsl's layout): neighbours counter-clockwise.
+  struct HostStar {
+    std::int32_t site = -1;
+    std::uint32_t info = 0;
+    std::int32_t base = -1;
+    int degree = 0;
+    std::int32_t nb[16];
+    bool closed() const { return (info & (1u << 9)) != 0; }
+    bool deferred() const { return (info & (1u << 10)) != 0; }
+    bool emitted() const { return !deferred() && base >= 0; }  // owns output triangles
+    int triangles() const { return closed() ? degree : degree - 1; }
+    std::uint32_t owned() const { return info >> 16; }
+    bool owns(int t) const { return ((owned() >> t) & 1u) != 0; }
+    std::int32_t output(int t) const { return base + std::popcount(owned() & ((1u << t) - 1u)); }
+    std::int32_t at(int t) const { return nb[t < 0 ? t + degree : (t >= degree ? t - degree : t)]; }
+    int find(std::int32_t u) const {
+      for (int t = 0; t < degree; ++t)
+        if (nb[t] == u) return t;
+      return -1;
+    }
+  };
+
+  // The host twin of star_links.comp, over the stars in place: the same adjacency, derived
+  // with the owner's star read once per lookup (a cache line) and without lookups for the
+  // triangles the site owns itself. Every id read is checked, so a faulty device cannot make
+  // the host misbehave.
   static void link_stars(const std::int32_t* star, const std::int32_t* info_base, std::size_t n,
                          PartialTriangulation& partial) {
     const std::size_t count = partial.triangles.size();
     auto& nbrs = partial.neighbors;
     nbrs.assign(count, {no_neighbor, no_neighbor, no_neighbor});
-    constexpr std::uint32_t closed_bit = 1u << 9, deferred_bit = 1u << 10;
-    auto info_of = [&](std::int32_t s) { return std::uint32_t(info_base[2 * std::size_t(s)]); };
-    auto base_of = [&](std::int32_t s) { return info_base[2 * std::size_t(s) + 1]; };
-    auto degree = [](std::uint32_t i) { return int(i & 31u); };
-    auto start_of = [](std::uint32_t i) { return int((i >> 5) & 15u); };
-    auto closed = [&](std::uint32_t i) { return (i & closed_bit) != 0; };
-    auto deferred = [&](std::uint32_t i) { return (i & deferred_bit) != 0; };
-    auto tris_of = [&](std::uint32_t i) { return closed(i) ? degree(i) : degree(i) - 1; };
     std::atomic<bool> bad{false};
-    auto valid = [&](std::int32_t id) {
-      if (id >= 0 && std::size_t(id) < n) return true;
-      bad = true;
-      return false;
+    // Reads the star of s; false (and `bad`) if it holds an impossible id.
+    auto load = [&](std::int32_t s, HostStar& h) {
+      h.site = s;
+      h.info = std::uint32_t(info_base[2 * std::size_t(s)]);
+      h.base = info_base[2 * std::size_t(s) + 1];
+      h.degree = int(h.info & 31u);
+      if (h.deferred()) return true;
+      const std::int32_t* row = star + 16 * std::size_t(s);
+      const int start = int((h.info >> 5) & 15u);
+      bool ok = h.degree <= 16 && (h.base < 0 || std::size_t(h.base) < count);
+      for (int t = 0; t < h.degree && ok; ++t) {
+        h.nb[t] = row[(start + t) & 15];
+        ok = h.nb[t] >= 0 && std::size_t(h.nb[t]) < n;
+      }
+      if (!ok) bad = true;
+      return ok;
     };
-    auto at = [&](std::int32_t s, std::uint32_t i, int t) {
-      const int d = degree(i);
-      if (t < 0) t += d;
-      if (t >= d) t -= d;
-      return star[16 * std::size_t(s) + std::size_t((start_of(i) + t) & 15)];
+    // Output index of triangle (o, u, w) in the star of its owner o, or no_neighbor.
+    auto index_in = [&](const HostStar& o, std::int32_t u, std::int32_t w) -> std::int32_t {
+      if (!o.emitted()) return no_neighbor;
+      const int t = o.find(u);
+      if (t < 0 || t >= o.triangles() || o.at(t + 1) != w || !o.owns(t)) return no_neighbor;
+      return o.output(t);
     };
-    auto find = [&](std::int32_t s, std::uint32_t i, std::int32_t u) {
-      for (int t = 0, d = degree(i); t < d; ++t)
-        if (at(s, i, t) == u) return t;
-      return -1;
-    };
-    auto index = [&](std::int32_t x, std::int32_t y, std::int32_t z) -> std::int32_t {
+    // Output index of the counter-clockwise triangle (x, y, z); `own` is a star already read.
+    auto index = [&](const HostStar& own, std::int32_t x, std::int32_t y, std::int32_t z) {
       std::int32_t o = x, u = y, w = z;
       if (y < o && y < z) {
         o = y, u = z, w = x;
       } else if (z < o && z < y) {
         o = z, u = x, w = y;
       }
-      const std::uint32_t i = info_of(o);
-      const std::int32_t base = base_of(o);
-      if (deferred(i) || base < 0) return no_neighbor;
-      const int t = find(o, i, u);
-      if (t < 0 || t >= tris_of(i) || at(o, i, t + 1) != w) return no_neighbor;
-      const std::int32_t k = base + std::popcount((i >> 16) & ((1u << t) - 1u));
-      if (std::size_t(k) >= count) {
-        bad = true;
-        return no_neighbor;
-      }
-      return k;
+      if (o == own.site) return index_in(own, u, w);
+      HostStar h;
+      return load(o, h) ? index_in(h, u, w) : no_neighbor;
     };
     const unsigned workers = host_workers(n);
     std::vector<std::vector<std::int32_t>> open(workers);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
+      HostStar me, other;
       for (std::size_t si = begin; si < end && !bad; ++si) {
-        const std::int32_t s = std::int32_t(si);
-        const std::uint32_t i = info_of(s);
-        std::int32_t out = base_of(s);
-        if (deferred(i) || out < 0) continue;
-        const int d = degree(i);
-        for (std::uint32_t left = i >> 16; left != 0; left &= left - 1) {
+        if (!load(std::int32_t(si), me) || !me.emitted()) continue;
+        const std::int32_t s = me.site;
+        const int tris = me.triangles();
+        for (std::uint32_t left = me.owned(); left != 0; left &= left - 1) {
           const int t = std::countr_zero(left);
-          const std::int32_t a = at(s, i, t), b = at(s, i, t + 1);
-          if (!valid(a) || !valid(b) || std::size_t(out) >= count) {
+          const std::int32_t a = me.at(t), b = me.at(t + 1);
+          const std::int32_t out = me.output(t);
+          if (t >= tris || std::size_t(out) >= count) {
             bad = true;
             break;
           }
-          std::int32_t r = -1;
-          const std::uint32_t ia = info_of(a), ib = info_of(b);
-          if (!deferred(ia)) {
-            const int p = find(a, ia, b);
-            if (p >= 0 && (p > 0 || closed(ia))) r = at(a, ia, p - 1);
-          } else if (!deferred(ib)) {
-            const int q = find(b, ib, a);
-            if (q >= 0 && (q < degree(ib) - 1 || closed(ib))) r = at(b, ib, q + 1);
+          auto& row = nbrs[std::size_t(out)];
+          // Opposite s: (b, a, r), r the neighbour of a before b (or of b after a).
+          if (load(a, other) && !other.deferred()) {
+            const int p = other.find(b);
+            if (p >= 0 && (p > 0 || other.closed())) row[0] = index(other, b, a, other.at(p - 1));
+          } else if (load(b, other) && !other.deferred()) {
+            const int q = other.find(a);
+            if (q >= 0 && (q < other.degree - 1 || other.closed()))
+              row[0] = index(other, b, a, other.at(q + 1));
           } else {
             open[w].push_back(3 * out);
           }
-          auto& row = nbrs[std::size_t(out)];
-          row[0] = r >= 0 && valid(r) ? index(b, a, r) : no_neighbor;
-          if (closed(i) || t + 2 < d) {
-            const std::int32_t next = at(s, i, t + 2);
-            row[1] = valid(next) ? index(s, b, next) : no_neighbor;
-          }
-          if (closed(i) || t >= 1) {
-            const std::int32_t prev = at(s, i, t - 1);
-            row[2] = valid(prev) ? index(s, prev, a) : no_neighbor;
-          }
-          ++out;
+          // Opposite a: (s, b, next), s's next triangle; opposite b: (s, previous, a).
+          if (me.closed() || t + 2 < me.degree) row[1] = index(me, s, b, me.at(t + 2));
+          if (me.closed() || t >= 1) row[2] = index(me, s, me.at(t - 1), a);
         }
       }
     });
