@@ -518,55 +518,68 @@ class VulkanBackend final : public Backend {
     }
   }
 
-  // A star as the host reads it (star_common.glsl's layout): neighbours counter-clockwise.
+  // A star as the host reads it, in place (star_common.glsl's layout).
   struct HostStar {
+    const std::int32_t* row = nullptr;
     std::int32_t site = -1;
     std::uint32_t info = 0;
     std::int32_t base = -1;
-    int degree = 0;
-    std::int32_t nb[16];
+    int degree = 0, start = 0;
     bool closed() const { return (info & (1u << 9)) != 0; }
     bool deferred() const { return (info & (1u << 10)) != 0; }
     bool emitted() const { return !deferred() && base >= 0; }  // owns output triangles
     int triangles() const { return closed() ? degree : degree - 1; }
     std::uint32_t owned() const { return info >> 16; }
     bool owns(int t) const { return ((owned() >> t) & 1u) != 0; }
-    std::int32_t output(int t) const { return base + std::popcount(owned() & ((1u << t) - 1u)); }
-    std::int32_t at(int t) const { return nb[t < 0 ? t + degree : (t >= degree ? t - degree : t)]; }
+    std::int32_t output(int t) const {
+      std::uint32_t below = owned() & ((1u << t) - 1u);
+      below = below - ((below >> 1) & 0x5555u);  // 16-bit popcount without a library call
+      below = (below & 0x3333u) + ((below >> 2) & 0x3333u);
+      below = (below + (below >> 4)) & 0x0f0fu;
+      return base + std::int32_t((below + (below >> 8)) & 0x1fu);
+    }
+    std::int32_t at(int t) const {
+      t = t < 0 ? t + degree : (t >= degree ? t - degree : t);
+      return row[(start + t) & 15];
+    }
     int find(std::int32_t u) const {
       for (int t = 0; t < degree; ++t)
-        if (nb[t] == u) return t;
+        if (row[(start + t) & 15] == u) return t;
       return -1;
     }
   };
 
-  // The host twin of star_links.comp, over the stars in place: the same adjacency, derived
-  // with the owner's star read once per lookup (a cache line) and without lookups for the
-  // triangles the site owns itself. Every id read is checked, so a faulty device cannot make
-  // the host misbehave.
+  // The host twin of star_links.comp, over the stars in place: the same adjacency. A first pass
+  // checks every star (ids in range, degree, output range), so that a faulty device cannot make
+  // the host misbehave; the second reads them unchecked.
   static void link_stars(const std::int32_t* star, const std::int32_t* info_base, std::size_t n,
                          PartialTriangulation& partial) {
     const std::size_t count = partial.triangles.size();
     auto& nbrs = partial.neighbors;
     nbrs.assign(count, {no_neighbor, no_neighbor, no_neighbor});
-    std::atomic<bool> bad{false};
-    // Reads the star of s; false (and `bad`) if it holds an impossible id.
-    auto load = [&](std::int32_t s, HostStar& h) {
+    auto star_of = [&](std::int32_t s) {
+      HostStar h;
       h.site = s;
+      h.row = star + 16 * std::size_t(s);
       h.info = std::uint32_t(info_base[2 * std::size_t(s)]);
       h.base = info_base[2 * std::size_t(s) + 1];
       h.degree = int(h.info & 31u);
-      if (h.deferred()) return true;
-      const std::int32_t* row = star + 16 * std::size_t(s);
-      const int start = int((h.info >> 5) & 15u);
-      bool ok = h.degree <= 16 && (h.base < 0 || std::size_t(h.base) < count);
-      for (int t = 0; t < h.degree && ok; ++t) {
-        h.nb[t] = row[(start + t) & 15];
-        ok = h.nb[t] >= 0 && std::size_t(h.nb[t]) < n;
-      }
-      if (!ok) bad = true;
-      return ok;
+      h.start = int((h.info >> 5) & 15u);
+      return h;
     };
+    const unsigned workers = host_workers(n);
+    std::atomic<bool> bad{false};
+    parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned) {
+      for (std::size_t s = begin; s < end; ++s) {
+        const HostStar h = star_of(std::int32_t(s));
+        if (h.deferred()) continue;
+        bool ok = h.degree >= 1 && h.degree <= 16 &&
+                  (h.base < 0 || std::size_t(h.output(16)) <= count);
+        for (int t = 0; t < h.degree; ++t) ok = ok && h.at(t) >= 0 && std::size_t(h.at(t)) < n;
+        if (!ok) bad = true;
+      }
+    });
+    if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid star");
     // Output index of triangle (o, u, w) in the star of its owner o, or no_neighbor.
     auto index_in = [&](const HostStar& o, std::int32_t u, std::int32_t w) -> std::int32_t {
       if (!o.emitted()) return no_neighbor;
@@ -582,35 +595,28 @@ class VulkanBackend final : public Backend {
       } else if (z < o && z < y) {
         o = z, u = x, w = y;
       }
-      if (o == own.site) return index_in(own, u, w);
-      HostStar h;
-      return load(o, h) ? index_in(h, u, w) : no_neighbor;
+      return index_in(o == own.site ? own : star_of(o), u, w);
     };
-    const unsigned workers = host_workers(n);
     std::vector<std::vector<std::int32_t>> open(workers);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
-      HostStar me, other;
-      for (std::size_t si = begin; si < end && !bad; ++si) {
-        if (!load(std::int32_t(si), me) || !me.emitted()) continue;
+      for (std::size_t si = begin; si < end; ++si) {
+        const HostStar me = star_of(std::int32_t(si));
+        if (!me.emitted()) continue;
         const std::int32_t s = me.site;
-        const int tris = me.triangles();
         for (std::uint32_t left = me.owned(); left != 0; left &= left - 1) {
           const int t = std::countr_zero(left);
+          if (t >= me.triangles()) break;  // never, for a valid star
           const std::int32_t a = me.at(t), b = me.at(t + 1);
           const std::int32_t out = me.output(t);
-          if (t >= tris || std::size_t(out) >= count) {
-            bad = true;
-            break;
-          }
           auto& row = nbrs[std::size_t(out)];
           // Opposite s: (b, a, r), r the neighbour of a before b (or of b after a).
-          if (load(a, other) && !other.deferred()) {
-            const int p = other.find(b);
-            if (p >= 0 && (p > 0 || other.closed())) row[0] = index(other, b, a, other.at(p - 1));
-          } else if (load(b, other) && !other.deferred()) {
-            const int q = other.find(a);
-            if (q >= 0 && (q < other.degree - 1 || other.closed()))
-              row[0] = index(other, b, a, other.at(q + 1));
+          const HostStar sa = star_of(a), sb = star_of(b);
+          if (!sa.deferred()) {
+            const int p = sa.find(b);
+            if (p >= 0 && (p > 0 || sa.closed())) row[0] = index(sa, b, a, sa.at(p - 1));
+          } else if (!sb.deferred()) {
+            const int q = sb.find(a);
+            if (q >= 0 && (q < sb.degree - 1 || sb.closed())) row[0] = index(sb, b, a, sb.at(q + 1));
           } else {
             open[w].push_back(3 * out);
           }
@@ -620,7 +626,6 @@ class VulkanBackend final : public Backend {
         }
       }
     });
-    if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid star");
     std::vector<std::int32_t> slots;
     for (const auto& list : open) slots.insert(slots.end(), list.begin(), list.end());
     pair_unresolved(slots, partial);
