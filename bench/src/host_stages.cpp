@@ -197,7 +197,15 @@ int main(int argc, char** argv) {
     std::optional<BucketTree> tree;
     if (wants("buckets") || wants("seam")) {
       const auto s = measure(reps, [&] { tree.reset(); }, [&] { tree.emplace(sites); });
-      if (wants("buckets")) emit("buckets", s, Checksum{}.add(tree->nodes()).hex(), {{"nodes", tree->nodes().size()}});
+      if (wants("buckets")) {
+        Checksum sum;
+        sum.add(tree->nodes());
+        const int side = tree->grid_cells_per_side();
+        for (int j = 0; j < side; ++j) {
+          for (int i = 0; i < side; ++i) sum.add(static_cast<std::uint64_t>(tree->cell_node(i, j)));
+        }
+        emit("buckets", s, sum.hex(), {{"nodes", tree->nodes().size()}});
+      }
     }
 
     if (!(wants("audit") || wants("derive") || wants("seam") || wants("output") || wants("alloc"))) continue;

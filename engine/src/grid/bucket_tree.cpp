@@ -2,13 +2,96 @@
 
 #include "expanse/error.hpp"
 #include "input/morton.hpp"
+#include "input/parallel.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <numeric>
 #include <utility>
 
 namespace expanse::detail {
+namespace {
+
+using Node = BucketTree::Node;
+
+bool is_bucket(const Node& node) {
+  return node.end - node.begin <= BucketTree::bucket_capacity || node.size == 1;
+}
+
+// The four children of a node that splits. Within the node all higher code bits are equal, so
+// the two bits of its level are sorted: each quadrant is a contiguous range (Morton order:
+// (0,0), (1,0), (0,1), (1,1)). code(i) is site i's code.
+template <class Code>
+std::array<Node, 4> children_of(const Node& parent, const Code& code) {
+  const std::uint32_t half = parent.size / 2;
+  int shift = 0;
+  while ((1u << shift) < half) ++shift;
+  std::array<Node, 4> children;
+  std::int32_t lo = parent.begin;
+  for (int quadrant = 0; quadrant < 4; ++quadrant) {
+    // First site in [lo, end) whose quadrant is above this one (partition point).
+    std::int32_t first = lo, last = parent.end;
+    while (first < last) {
+      const std::int32_t mid = first + (last - first) / 2;
+      if (static_cast<int>((code(mid) >> (2 * shift)) & 3u) <= quadrant) first = mid + 1;
+      else last = mid;
+    }
+    children[quadrant] = {parent.x0 + ((quadrant & 1) ? half : 0), parent.y0 + ((quadrant & 2) ? half : 0), half, -1,
+                          lo, first};
+    lo = first;
+  }
+  return children;
+}
+
+// The descendants of `parent` in depth-first order (four children together, then each child's
+// subtree in turn), written from out[cursor] on (out == nullptr: only counted); returns
+// parent's first child's index, or -1 for a bucket.
+template <class Code>
+std::int32_t grow(Node* out, std::size_t& cursor, const Node& parent, const Code& code) {
+  if (is_bucket(parent)) return -1;
+  const std::size_t first = cursor;
+  cursor += 4;
+  const std::array<Node, 4> children = children_of(parent, code);
+  for (int quadrant = 0; quadrant < 4; ++quadrant) {
+    const std::int32_t child_first = grow(out, cursor, children[quadrant], code);
+    if (out) {
+      out[first + quadrant] = children[quadrant];
+      out[first + quadrant].first_child = child_first;
+    }
+  }
+  return static_cast<std::int32_t>(first);
+}
+
+// Deepest level (root: 0, size 2^30) of a node holding both codes, at most 29 (a node of size
+// 1 never splits).
+int shared_level(std::uint64_t a, std::uint64_t b) {
+  const std::uint64_t x = a ^ b;
+  if (x == 0) return 29;
+  const int bits = static_cast<int>(std::bit_width(x));
+  return std::min(29, BucketTree::quant_bits - (bits + 1) / 2);
+}
+
+// Nodes below a node at `level` holding sites [0, m) with these sorted codes (four per node
+// that splits, itself included), without building them: a node splits when it holds sites i
+// and i + capacity; the sites i for which a given node splits are consecutive, so it is
+// counted at the first of them.
+std::size_t count_descendants(const std::uint64_t* codes, std::size_t m, int level) {
+  constexpr std::size_t span = BucketTree::bucket_capacity;
+  std::size_t splits = 0;
+  int previous = level - 1;
+  for (std::size_t i = 0; i + span < m; ++i) {
+    const int deepest = shared_level(codes[i], codes[i + span]);
+    const int known = i == 0 ? level - 1 : std::max(level - 1, std::min(previous, shared_level(codes[i - 1], codes[i])));
+    if (deepest > known) splits += static_cast<std::size_t>(deepest - known);
+    previous = deepest;
+  }
+  return 4 * splits;
+}
+
+}  // namespace
 
 BucketTree::BucketTree(const SiteSet& sites) {
   const Quantiser quantiser(sites.bounds);
@@ -16,24 +99,121 @@ BucketTree::BucketTree(const SiteSet& sites) {
   origin_y_ = quantiser.origin_y;
   scale_ = quantiser.scale;
 
+  // The top of the tree on this thread, down to subtrees small enough to be tasks; each task's
+  // subtree counted, then written where a sequential depth-first split puts it: a subtree's
+  // nodes are contiguous there, after those of the subtrees before it. Codes are computed where
+  // they are needed (in cache for a task's sites) rather than stored for every site.
   const std::int32_t n = sites.size();
-  std::vector<std::uint64_t> codes(n);
-  for (std::int32_t i = 0; i < n; ++i) {
-    const Point2& p = sites.points[i];
-    codes[i] = morton_code(quantise_x(p.x), quantise_y(p.y));
+  const auto count = static_cast<std::size_t>(n);
+  const auto code_of = [&](std::int32_t i) {
+    const Point2& p = sites.points[static_cast<std::size_t>(i)];
+    return morton_code(quantise_x(p.x), quantise_y(p.y));
+  };
+  struct Top {
+    Node node;
+    std::int32_t first_top = -1;  // four children in `tops`
+    std::int32_t task = -1;
+  };
+  const std::size_t task_sites = std::max<std::size_t>(std::size_t{1} << 13, count / (16 * host_threads()));
+  std::vector<Top> tops{{{0, 0, 1u << quant_bits, -1, 0, n}}};
+  std::vector<std::int32_t> tasks;  // top index of each task's root
+  for (std::size_t t = 0; t < tops.size(); ++t) {  // breadth first; placement below is depth first
+    const Node node = tops[t].node;
+    if (is_bucket(node)) continue;
+    if (static_cast<std::size_t>(node.end - node.begin) <= task_sites) {
+      tops[t].task = static_cast<std::int32_t>(tasks.size());
+      tasks.push_back(static_cast<std::int32_t>(t));
+      continue;
+    }
+    tops[t].first_top = static_cast<std::int32_t>(tops.size());
+    for (const Node& child : children_of(node, code_of)) tops.push_back({child});
   }
   // Buckets are ranges of site ids: that needs the Morton order prepare_sites() establishes.
-  if (!std::is_sorted(codes.begin(), codes.end())) {
+  // Each task checks its sites; the ranges of the top's buckets and tasks cover [0, n) in order,
+  // so their own sites and the joins between them are checked here.
+  std::atomic<bool> sorted{true};
+  for (const Top& top : tops) {
+    if (top.first_top >= 0 || top.task >= 0) continue;
+    for (std::int32_t i = top.node.begin + 1; i < top.node.end; ++i) {
+      if (code_of(i - 1) > code_of(i)) sorted = false;
+    }
+  }
+  for (const Top& top : tops) {
+    if (top.first_top < 0 && top.node.begin > 0 && top.node.begin < n &&
+        code_of(top.node.begin - 1) > code_of(top.node.begin)) {
+      sorted = false;
+    }
+  }
+  std::vector<std::size_t> task_nodes(tasks.size());
+  // One task's codes, in cache: the same on both passes.
+  const auto task_codes = [&](const Node& root) {
+    thread_local std::vector<std::uint64_t> codes;
+    codes.resize(static_cast<std::size_t>(root.end - root.begin));
+    for (std::int32_t i = root.begin; i < root.end; ++i) codes[static_cast<std::size_t>(i - root.begin)] = code_of(i);
+    return [data = codes.data(), base = root.begin](std::int32_t i) -> const std::uint64_t& { return data[i - base]; };
+  };
+  parallel_tasks(tasks.size(), [&](std::size_t task) {
+    const Node& root = tops[tasks[task]].node;
+    const auto code = task_codes(root);
+    for (std::int32_t i = root.begin + 1; i < root.end; ++i) {
+      if (code(i - 1) > code(i)) sorted.store(false, std::memory_order_relaxed);
+    }
+    int level = 0;
+    while ((root.size << level) < (1u << quant_bits)) ++level;
+    task_nodes[task] = count_descendants(&code(root.begin), static_cast<std::size_t>(root.end - root.begin), level);
+  });
+  if (!sorted.load()) {
     throw Error(ErrorCode::internal, "bucket tree built over sites that are not in Morton order");
   }
-  nodes_.reserve(static_cast<std::size_t>(n) / 2 + 16);
-  nodes_.push_back({0, 0, 1u << quant_bits, -1, 0, n});
-  split(0, codes);
-
-  // About four sites per cell when they are spread evenly.
-  while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * 4 < static_cast<std::size_t>(n)) ++grid_level_;
-  cell_node_.assign(std::size_t{1} << (2 * grid_level_), 0);
-  fill_cells(0);
+  std::size_t total = 1;
+  for (const Top& top : tops) total += top.first_top >= 0 ? 4 : 0;
+  for (const std::size_t nodes : task_nodes) total += nodes;
+  nodes_.resize(total);
+  nodes_[0] = tops[0].node;
+  std::vector<std::size_t> task_offset(tasks.size());
+  std::size_t cursor = 1;
+  const auto place = [&](auto&& self, std::size_t t, std::size_t index) -> void {
+    const Top& top = tops[t];
+    if (top.first_top >= 0) {
+      const std::size_t first = cursor;
+      cursor += 4;
+      nodes_[index].first_child = static_cast<std::int32_t>(first);
+      for (int k = 0; k < 4; ++k) nodes_[first + k] = tops[top.first_top + k].node;
+      for (int k = 0; k < 4; ++k) self(self, top.first_top + k, first + k);
+    } else if (top.task >= 0) {
+      task_offset[top.task] = cursor;
+      if (task_nodes[top.task] > 0) nodes_[index].first_child = static_cast<std::int32_t>(cursor);
+      cursor += task_nodes[top.task];
+    }
+  };
+  place(place, 0, 0);
+  parallel_tasks(tasks.size(), [&](std::size_t task) {
+    const Node& root = tops[tasks[task]].node;
+    const auto code = task_codes(root);
+    std::size_t at = task_offset[task];
+    grow(nodes_.data(), at, root, code);
+    if (at != task_offset[task] + task_nodes[task]) sorted.store(false);  // cannot happen: counted alike
+  });
+  if (!sorted.load()) throw Error(ErrorCode::internal, "bucket tree: a subtree has not the size it was counted at");
+  // About four sites per cell when they are spread evenly. Every cell is covered by exactly
+  // one node of cell size or one bucket above it; the subtrees a few levels down fill
+  // disjoint blocks of cells, in parallel.
+  while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * 4 < count) ++grid_level_;
+  cell_node_.resize(std::size_t{1} << (2 * grid_level_));
+  std::vector<std::int32_t> roots{0};
+  for (int level = 0; level < 4; ++level) {
+    std::vector<std::int32_t> deeper;
+    for (const std::int32_t r : roots) {
+      const Node& node = nodes_[r];
+      if (node.first_child >= 0 && node.size > (1u << cell_shift())) {
+        for (int k = 0; k < 4; ++k) deeper.push_back(node.first_child + k);
+      } else {
+        fill_cells(r);
+      }
+    }
+    roots.swap(deeper);
+  }
+  parallel_tasks(roots.size(), [&](std::size_t r) { fill_cells(roots[r]); });
 }
 
 void BucketTree::fill_cells(std::int32_t node_index) {
@@ -60,30 +240,6 @@ std::uint32_t BucketTree::bucket_size_at(std::uint32_t qx, std::uint32_t qy) con
     node = parent.first_child + quadrant;
   }
   return nodes_[node].size;
-}
-
-void BucketTree::split(std::int32_t node, const std::vector<std::uint64_t>& codes) {
-  const Node parent = nodes_[node];
-  if (parent.end - parent.begin <= bucket_capacity || parent.size == 1) return;
-  const auto first_child = static_cast<std::int32_t>(nodes_.size());
-  nodes_[node].first_child = first_child;
-  nodes_.resize(nodes_.size() + 4);
-  // Within this node all higher code bits are equal, so the two bits of this level are sorted:
-  // each quadrant is a contiguous range (Morton order: (0,0), (1,0), (0,1), (1,1)).
-  const std::uint32_t half = parent.size / 2;
-  int shift = 0;
-  while ((1u << shift) < half) ++shift;
-  const auto quadrant_of = [&](std::uint64_t code) { return static_cast<int>((code >> (2 * shift)) & 3u); };
-  std::int32_t lo = parent.begin;
-  for (int quadrant = 0; quadrant < 4; ++quadrant) {
-    const auto it = std::partition_point(codes.begin() + lo, codes.begin() + parent.end,
-                                         [&](std::uint64_t c) { return quadrant_of(c) <= quadrant; });
-    const auto hi = static_cast<std::int32_t>(it - codes.begin());
-    nodes_[first_child + quadrant] = {parent.x0 + ((quadrant & 1) ? half : 0),
-                                      parent.y0 + ((quadrant & 2) ? half : 0), half, -1, lo, hi};
-    lo = hi;
-  }
-  for (int quadrant = 0; quadrant < 4; ++quadrant) split(first_child + quadrant, codes);
 }
 
 }  // namespace expanse::detail

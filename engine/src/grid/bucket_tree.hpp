@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "input/parallel.hpp"
 #include "input/site_set.hpp"
 
 namespace expanse::detail {
@@ -47,7 +48,9 @@ class BucketTree {
   double real_y(double q) const { return origin_y_ + q / scale_; }
   double quantum() const { return 1.0 / scale_; }
 
-  const std::vector<Node>& nodes() const { return nodes_; }
+  /// In the order a sequential depth-first split makes them (root first, then each node's four
+  /// children together, each child's subtree before the next child's), whatever the threads.
+  const HostVector<Node>& nodes() const { return nodes_; }
   /// Side (in quanta) of the bucket containing quantised point (qx, qy).
   std::uint32_t bucket_size_at(std::uint32_t qx, std::uint32_t qy) const;
 
@@ -65,14 +68,12 @@ class BucketTree {
     if (q >= static_cast<double>(quant_max)) return quant_max;
     return static_cast<std::uint32_t>(q);
   }
-  void split(std::int32_t node, const std::vector<std::uint64_t>& codes);
-
   void fill_cells(std::int32_t node);
 
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
   int grid_level_ = 0;
-  std::vector<std::int32_t> cell_node_;
-  std::vector<Node> nodes_;
+  HostVector<std::int32_t> cell_node_;
+  HostVector<Node> nodes_;
 };
 
 }  // namespace expanse::detail

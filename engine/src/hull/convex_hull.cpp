@@ -19,8 +19,7 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
   const std::int32_t n = sites.size();
   // Extremes in 8 directions, in CCW order: min y, min (y - x)... expressed as maximisers of
   // direction dot products; exact ties do not matter for correctness.
-  constexpr std::array<std::array<double, 2>, 8> directions = {{
-      {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}}};
+  // Directions: (0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1).
   // Per chunk, then over chunks in order: the first site with the largest value, as one pass.
   struct Extremes {
     std::array<std::int32_t, 8> site{};
@@ -32,8 +31,12 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
     Extremes e;
     e.best.fill(-std::numeric_limits<double>::infinity());
     for (std::size_t i = begin; i < end; ++i) {
+      // direction d . p[i], each rounded as the dot product is (0 * x adds a zero; rounding
+      // to nearest is symmetric, so -x - y == -(x + y) and -x + y == -(x - y)).
+      const double x = p[i].x, y = p[i].y, sum = x + y, difference = x - y;
+      const double values[8] = {-y, difference, x, sum, y, -difference, -x, -sum};
       for (int d = 0; d < 8; ++d) {
-        const double v = directions[d][0] * p[i].x + directions[d][1] * p[i].y;
+        const double v = values[d];
         if (v > e.best[d]) {
           e.best[d] = v;
           e.site[d] = static_cast<std::int32_t>(i);
