@@ -296,8 +296,9 @@ class VulkanBackend final : public Backend {
     const std::size_t cell_count = std::size_t(cells) * std::size_t(cells);
     const unsigned workers = host_workers(n);
     std::vector<std::int32_t> cell(n);
-    std::vector<std::vector<std::int32_t>> fill(workers, std::vector<std::int32_t>(cell_count, 0));
+    std::vector<std::vector<std::int32_t>> fill(workers);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
+      fill[w].assign(cell_count, 0);  // zeroed (first touched) by the thread that counts in it
       std::int32_t* count = fill[w].data();
       for (std::size_t i = begin; i < end; ++i) {
         const Point2& p = sites.points[i];
@@ -307,17 +308,28 @@ class VulkanBackend final : public Backend {
         ++count[cell[i]];
       }
     });
-    // cell_start, and each worker's first slot in each cell.
-    std::int32_t running = 0;
-    for (std::size_t c = 0; c < cell_count; ++c) {
-      cell_start[c] = running;
-      for (unsigned w = 0; w < workers; ++w) {
-        const std::int32_t here = fill[w][c];
-        fill[w][c] = running;
-        running += here;
+    // cell_start, and each worker's first slot in each cell: a prefix sum over cells (then
+    // workers), in two parallel passes over ranges of cells.
+    std::vector<std::int32_t> range_sum(workers + 1, 0);
+    parallel_chunks(cell_count, workers, [&](std::size_t begin, std::size_t end, unsigned r) {
+      std::int32_t sum = 0;
+      for (std::size_t c = begin; c < end; ++c)
+        for (unsigned w = 0; w < workers; ++w) sum += fill[w][c];
+      range_sum[r + 1] = sum;
+    });
+    for (unsigned r = 0; r < workers; ++r) range_sum[r + 1] += range_sum[r];
+    parallel_chunks(cell_count, workers, [&](std::size_t begin, std::size_t end, unsigned r) {
+      std::int32_t running = range_sum[r];
+      for (std::size_t c = begin; c < end; ++c) {
+        cell_start[c] = running;
+        for (unsigned w = 0; w < workers; ++w) {
+          const std::int32_t here = fill[w][c];
+          fill[w][c] = running;
+          running += here;
+        }
       }
-    }
-    cell_start[cell_count] = running;
+    });
+    cell_start[cell_count] = std::int32_t(n);
     std::vector<std::int32_t> to_sorted(n);
     g.to_site.resize(n);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
