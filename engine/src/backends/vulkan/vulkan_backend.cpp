@@ -294,7 +294,9 @@ class VulkanBackend final : public Backend {
     g.inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
     g.inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
     const std::size_t cell_count = std::size_t(cells) * std::size_t(cells);
-    const unsigned workers = host_workers(n);
+    // Each worker counts into its own array of all cells: at most 2^24 counts in all (64 MB).
+    const unsigned workers = unsigned(std::clamp<std::size_t>(
+        (std::size_t(1) << 24) / std::max<std::size_t>(cell_count, 1), 1, host_workers(n)));
     std::vector<std::int32_t> cell(n);
     std::vector<std::vector<std::int32_t>> fill(workers);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
