@@ -14,9 +14,11 @@
 //   audit    adjacency_is_trustworthy() on the full Delaunay triangulation less the triangles
 //            around --open-sites sites (a seam like the one a GPU leaves), with its adjacency
 //   derive   derive_neighbors() on the same triangles
-//   seam     complete_seam() on them (tree built beforehand, not timed)
+//   seam     complete_seam() on them (tree built beforehand, not timed), handed over in vectors
+//            of exactly their size (seam_reserved: with room for all triangles reserved)
 //   output   site ids -> input indices over every triangle (the pipeline's output stage)
 //   alloc    std::vector resize of the triangles and neighbours a backend downloads into
+//            (and alloc_prefaulted: the same through resize_prefaulted)
 //
 // The full triangulation comes from the CPU backend's algorithm (the seam stage from one seed)
 // and is cached under --cache (default $TMPDIR or /tmp, expanse-host-stages/): building it at
@@ -245,11 +247,26 @@ int main(int argc, char** argv) {
     if (wants("seam")) {
       PartialTriangulation work;
       SeamStats stats;
-      const auto s = measure(reps, [&] { work = partial; }, [&] { stats = complete_seam(sites, hull, *tree, work); });
-      nlohmann::ordered_json info = seam_info;
-      info["open_edges"] = stats.open_edges;
-      info["triangles_made"] = stats.triangles_made;
-      emit("seam", s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
+      // As a backend hands them over: vectors exactly as large as their contents (the seam
+      // stage must move them to make room), or with room for every triangle reserved.
+      for (const bool reserved : {false, true}) {
+        const auto s = measure(
+            reps,
+            [&] {
+              work = PartialTriangulation{};
+              if (reserved) {
+                work.triangles.reserve(full.size());
+                work.neighbors.reserve(full.size());
+              }
+              work.triangles = partial.triangles;
+              work.neighbors = partial.neighbors;
+            },
+            [&] { stats = complete_seam(sites, hull, *tree, work); });
+        nlohmann::ordered_json info = seam_info;
+        info["open_edges"] = stats.open_edges;
+        info["triangles_made"] = stats.triangles_made;
+        emit(reserved ? "seam_reserved" : "seam", s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
+      }
     }
     tree.reset();
     if (wants("output")) {
@@ -271,6 +288,18 @@ int main(int argc, char** argv) {
             neighbors.resize(full.size());
           });
       emit("alloc", s, "", {{"triangles", full.size()}, {"bytes", 2 * full.size() * sizeof(Triangle)}});
+      // The same vectors with their pages faulted in on all threads first (resize_prefaulted).
+      const auto p = measure(
+          reps,
+          [&] {
+            std::vector<Triangle>().swap(triangles);
+            std::vector<std::array<std::int32_t, 3>>().swap(neighbors);
+          },
+          [&] {
+            resize_prefaulted(triangles, full.size());
+            resize_prefaulted(neighbors, full.size());
+          });
+      emit("alloc_prefaulted", p, "", {{"triangles", full.size()}, {"bytes", 2 * full.size() * sizeof(Triangle)}});
     }
   }
   return 0;
