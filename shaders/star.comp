@@ -35,11 +35,11 @@ layout(constant_id = 1) const int STAR_CAPACITY = 16;
 layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
 
 
-// Sites and cell starts are read as uniform texel buffers: on lavapipe a texel fetch is a
+// Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a texel fetch is a
 // vector gather, where a storage-buffer load is a loop over the lanes.
 layout(set = 0, binding = 0) uniform usamplerBuffer site_texels;   // RGBA32UI: one dvec2
 layout(set = 0, binding = 1) uniform isamplerBuffer cell_texels;   // R32I
-layout(std430, set = 0, binding = 2) readonly buffer Predecessor { int predecessor[]; };
+layout(set = 0, binding = 2) uniform isamplerBuffer predecessor_texels;  // R32I: hull.predecessor
 layout(std430, set = 0, binding = 3) writeonly buffer Triangles { int triangles[]; };
 // [0] triangles written, [1] deferred sites, [2] output overflow, [3] impossible searches
 layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
@@ -65,6 +65,7 @@ dvec2 site_at(int i) {
   return dvec2(packDouble2x32(u.xy), packDouble2x32(u.zw));
 }
 int cell_start_at(int c) { return texelFetch(cell_texels, c).x; }
+int predecessor_of(int s) { return texelFetch(predecessor_texels, s).x; }
 
 #include "cells.glsl"
 #include "predicates.glsl"
@@ -159,7 +160,7 @@ void main() {
   int budget = LOOP_BUDGET;
   ivec2 grid_hi = ivec2(params.cells - 1);
   dvec2 ps = site_at(s);
-  int pred_s = predecessor[s];
+  int pred_s = predecessor_of(s);
 
   int phase = PHASE_NEAREST;
   bool impossible = false;
@@ -318,7 +319,7 @@ void main() {
         phase = PHASE_CW;  // s->v is an outer edge: the rest lies clockwise from v0
         v = v0;
       }
-      if (phase == PHASE_CW && predecessor[v] == s) phase = PHASE_DONE;
+      if (phase == PHASE_CW && predecessor_of(v) == s) phase = PHASE_DONE;
       if (phase >= PHASE_DONE) break;
       // Search the next edge: s->v counter-clockwise, v->s clockwise.
       dvec2 pv = site_at(v);

@@ -444,12 +444,13 @@ class VulkanBackend final : public Backend {
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    const VkDescriptorType star_types[] = {texel, texel, storage, storage, storage, storage, storage};
+    const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage};
     Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(StarParams), spec, star_types);
     TexelView site_view(ctx, sites, VK_FORMAT_R32G32B32A32_UINT, bytes_of(n, 16));
     TexelView cell_view(ctx, cell_start, VK_FORMAT_R32_SINT, bytes_of(cell_entries, 4));
+    TexelView predecessor_view(ctx, predecessor, VK_FORMAT_R32_SINT, bytes_of(n, 4));
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info};
-    const TexelView* texels[] = {&site_view, &cell_view, nullptr, nullptr, nullptr, nullptr, nullptr};
+    const TexelView* texels[] = {&site_view, &cell_view, &predecessor_view, nullptr, nullptr, nullptr, nullptr};
     kernel.bind(bindings, texels);
     Kernel* links = nullptr;
     if (!in_place) {
