@@ -254,7 +254,11 @@ class VulkanBackend final : public Backend {
   }
 
   // lavapipe breaks out of every loop after 65535 iterations per SIMD batch (8 lanes); a lane
-  // budget of 1000 keeps the batch under that cap (the shaders also check a canary). On GPUs a
+  // budget of 1000 keeps the batch under that cap (the shaders also check a canary). In
+  // star.comp every pass of each of its four nested loops spends from the budget of a lane
+  // taking it, so a batch makes at most 4 x 8 x 1000 back-edges; a site needs about 120 (1M
+  // uniform), and the ~0.07% that would need more are cheaper in the seam stage: 2000 cut the
+  // deferrals by a quarter but cost more device time than the seam saved. On GPUs a
   // star walk still gets a budget, 20x a typical walk: the kernel lasts as long as its slowest
   // invocation, and the rare walk that would scan half the grid is cheaper in the seam stage.
   // EXPANSE_VULKAN_LOOP_BUDGET overrides it (for experiments).
