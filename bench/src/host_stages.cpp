@@ -10,12 +10,14 @@
 // Stages:
 //   prepare  prepare_sites(points): validate, scale, Morton sort, merge duplicates
 //   hull     convex_hull(sites)
-//   buckets  BucketTree(sites): what the seam stage searches
+//   buckets  BucketTree(sites): what the seam stage searches (buckets_coarse: with 256-site
+//            buckets, what the pipeline builds when the seam is tiny)
 //   audit    adjacency_is_trustworthy() on the full Delaunay triangulation less the triangles
 //            around --open-sites sites (a seam like the one a GPU leaves), with its adjacency
 //   derive   derive_neighbors() on the same triangles
 //   seam     complete_seam() on them (tree built beforehand, not timed), handed over in vectors
-//            of exactly their size (seam_reserved: with room for all triangles reserved)
+//            of exactly their size (seam_reserved: with room for all triangles reserved;
+//            seam_coarse: the same over the 256-site-bucket tree)
 //   output   site ids -> input indices over every triangle (the pipeline's output stage)
 //   alloc    std::vector resize of the triangles and neighbours a backend downloads into
 //            (and alloc_prefaulted: the same through resize_prefaulted)
@@ -137,7 +139,8 @@ std::vector<Triangle> full_triangulation(const SiteSet& sites, const Hull& hull,
 int main(int argc, char** argv) {
   CLI::App app{"Times each host stage of the pipeline"};
   std::vector<std::string> sizes{"1e6", "4e6", "4096^2"};
-  std::vector<std::string> stages{"prepare", "hull", "buckets", "audit", "derive", "seam", "output", "alloc"};
+  std::vector<std::string> stages{"prepare", "hull",   "buckets", "buckets_coarse", "audit",
+                                  "derive",  "seam",   "output",  "alloc"};
   std::string distribution = "uniform", output, note, cache = default_cache().string();
   int reps = 3;
   std::size_t threads = 0, open_sites = 8;
@@ -210,6 +213,15 @@ int main(int argc, char** argv) {
       }
     }
 
+    // The tree the pipeline builds for a tiny seam: buckets of up to 256 sites.
+    std::optional<BucketTree> coarse;
+    if (wants("buckets_coarse") || wants("seam")) {
+      const auto s = measure(reps, [&] { coarse.reset(); }, [&] { coarse.emplace(sites, BucketTree::coarse_capacity); });
+      if (wants("buckets_coarse")) {
+        emit("buckets_coarse", s, Checksum{}.add(coarse->nodes()).hex(), {{"nodes", coarse->nodes().size()}});
+      }
+    }
+
     if (!(wants("audit") || wants("derive") || wants("seam") || wants("output") || wants("alloc"))) continue;
     const std::filesystem::path cache_file =
         std::filesystem::path(cache) / (distribution + "-" + std::to_string(n) + "-" + std::to_string(seed) + ".tri");
@@ -249,7 +261,9 @@ int main(int argc, char** argv) {
       SeamStats stats;
       // As a backend hands them over: vectors exactly as large as their contents (the seam
       // stage must move them to make room), or with room for every triangle reserved.
-      for (const bool reserved : {false, true}) {
+      for (const char* variant : {"seam", "seam_reserved", "seam_coarse"}) {
+        const bool reserved = variant != std::string("seam");
+        const BucketTree& search_tree = variant == std::string("seam_coarse") ? *coarse : *tree;
         const auto s = measure(
             reps,
             [&] {
@@ -261,14 +275,16 @@ int main(int argc, char** argv) {
               work.triangles = partial.triangles;
               work.neighbors = partial.neighbors;
             },
-            [&] { stats = complete_seam(sites, hull, *tree, work); });
+            [&] { stats = complete_seam(sites, hull, search_tree, work); });
         nlohmann::ordered_json info = seam_info;
         info["open_edges"] = stats.open_edges;
         info["triangles_made"] = stats.triangles_made;
-        emit(reserved ? "seam_reserved" : "seam", s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
+        info["candidates_tested"] = stats.candidates_tested;
+        emit(variant, s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
       }
     }
     tree.reset();
+    coarse.reset();
     if (wants("output")) {
       std::vector<Triangle> triangles;
       const auto s = measure(reps, [&] { triangles = full; }, [&] { remap_to_input(triangles, sites); });

@@ -88,7 +88,9 @@ struct SequentialTree {
   std::vector<BucketTree::Node> nodes;
   std::vector<std::int32_t> cells;
 
-  explicit SequentialTree(const SiteSet& sites, const BucketTree& tree) {
+  int capacity;
+
+  explicit SequentialTree(const SiteSet& sites, const BucketTree& tree) : capacity(tree.capacity()) {
     const auto n = static_cast<std::int32_t>(sites.size());
     std::vector<std::uint64_t> codes(static_cast<std::size_t>(n));
     for (std::int32_t i = 0; i < n; ++i) {
@@ -102,7 +104,7 @@ struct SequentialTree {
   }
   void split(std::int32_t index, const std::vector<std::uint64_t>& codes) {
     const BucketTree::Node parent = nodes[index];
-    if (parent.end - parent.begin <= BucketTree::bucket_capacity || parent.size == 1) return;
+    if (parent.end - parent.begin <= capacity || parent.size == 1) return;
     const auto first = static_cast<std::int32_t>(nodes.size());
     nodes[index].first_child = first;
     nodes.resize(nodes.size() + 4);
@@ -192,7 +194,7 @@ TEST_CASE("prepare_sites: equal points in one long run across chunks keep the fi
   }
 }
 
-TEST_CASE("bucket tree: the sequential split, whatever the threads", "[parallel][grid]") {
+TEST_CASE("bucket tree: the sequential split, whatever the threads (8- and 256-site buckets)", "[parallel][grid]") {
   for (const char* distribution : {"uniform", "kuzmin", "clusters", "grid", "line"}) {
     const std::vector<Point2> points = generate_points(distribution, 700000, 5);
     const SiteSet sites = prepare_sites(points);
@@ -200,7 +202,7 @@ TEST_CASE("bucket tree: the sequential split, whatever the threads", "[parallel]
     for (std::size_t threads : thread_counts) {
       INFO(distribution << ", " << threads << " threads");
       Threads use(threads);
-      const BucketTree tree(sites);
+      const BucketTree tree(sites, threads == 2 ? BucketTree::coarse_capacity : BucketTree::bucket_capacity);
       const SequentialTree sequential(sites, tree);
       REQUIRE(same_nodes(tree.nodes(), sequential.nodes));
       const int side = tree.grid_cells_per_side();
@@ -298,5 +300,32 @@ TEST_CASE("hull, neighbours, audit and output remap: the same with any number of
     remap_to_input(remapped, sites);
     CHECK(test::compare_triangles(remapped, oracle.triangles).equal);
     CHECK(std::equal(remapped.begin(), remapped.end(), oracle.triangles.begin(), oracle.triangles.end()));
+  }
+}
+
+TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-site buckets", "[parallel][seam]") {
+  for (const char* distribution : {"uniform", "kuzmin", "grid"}) {
+    const std::vector<Point2> points = generate_points(distribution, 300000, 9);
+    const SiteSet sites = prepare_sites(points);
+    const Hull hull = convex_hull(sites);
+    std::vector<std::int32_t> site_of(points.size());
+    for (std::int32_t s = 0; s < sites.size(); ++s) site_of[sites.input_index[s]] = s;
+    PartialTriangulation partial;
+    for (const Triangle& t : test::cgal_delaunay(points).triangles) {
+      const Triangle u{site_of[t[0]], site_of[t[1]], site_of[t[2]]};
+      // A few holes, and everything around two hull sites.
+      const bool open = u[0] % 40000 == 3 || u[1] % 40000 == 3 || u[2] % 40000 == 3 ||
+                        std::find(u.begin(), u.end(), hull.sites[0]) != u.end() ||
+                        std::find(u.begin(), u.end(), hull.sites[hull.sites.size() / 2]) != u.end();
+      if (!open) partial.triangles.push_back(u);
+    }
+    const std::size_t expected = 2 * sites.points.size() - hull.sites.size() - 2;
+    REQUIRE(BucketTree::seam_capacity(sites.points.size(), expected - partial.triangles.size()) ==
+            BucketTree::coarse_capacity);
+    PartialTriangulation fine = partial, coarse = partial;
+    complete_seam(sites, hull, BucketTree(sites), fine);
+    complete_seam(sites, hull, BucketTree(sites, BucketTree::coarse_capacity), coarse);
+    CHECK(fine.triangles == coarse.triangles);
+    CHECK(fine.neighbors == coarse.neighbors);
   }
 }

@@ -17,8 +17,8 @@ namespace {
 
 using Node = BucketTree::Node;
 
-bool is_bucket(const Node& node) {
-  return node.end - node.begin <= BucketTree::bucket_capacity || node.size == 1;
+bool is_bucket(const Node& node, int capacity) {
+  return node.end - node.begin <= capacity || node.size == 1;
 }
 
 // The four children of a node that splits. Within the node all higher code bits are equal, so
@@ -50,13 +50,13 @@ std::array<Node, 4> children_of(const Node& parent, const Code& code) {
 // subtree in turn), written from out[cursor] on (out == nullptr: only counted); returns
 // parent's first child's index, or -1 for a bucket.
 template <class Code>
-std::int32_t grow(Node* out, std::size_t& cursor, const Node& parent, const Code& code) {
-  if (is_bucket(parent)) return -1;
+std::int32_t grow(Node* out, std::size_t& cursor, const Node& parent, const Code& code, int capacity) {
+  if (is_bucket(parent, capacity)) return -1;
   const std::size_t first = cursor;
   cursor += 4;
   const std::array<Node, 4> children = children_of(parent, code);
   for (int quadrant = 0; quadrant < 4; ++quadrant) {
-    const std::int32_t child_first = grow(out, cursor, children[quadrant], code);
+    const std::int32_t child_first = grow(out, cursor, children[quadrant], code, capacity);
     if (out) {
       out[first + quadrant] = children[quadrant];
       out[first + quadrant].first_child = child_first;
@@ -78,8 +78,8 @@ int shared_level(std::uint64_t a, std::uint64_t b) {
 // that splits, itself included), without building them: a node splits when it holds sites i
 // and i + capacity; the sites i for which a given node splits are consecutive, so it is
 // counted at the first of them.
-std::size_t count_descendants(const std::uint64_t* codes, std::size_t m, int level) {
-  constexpr std::size_t span = BucketTree::bucket_capacity;
+std::size_t count_descendants(const std::uint64_t* codes, std::size_t m, int level, int capacity) {
+  const auto span = static_cast<std::size_t>(capacity);
   std::size_t splits = 0;
   int previous = level - 1;
   for (std::size_t i = 0; i + span < m; ++i) {
@@ -93,7 +93,7 @@ std::size_t count_descendants(const std::uint64_t* codes, std::size_t m, int lev
 
 }  // namespace
 
-BucketTree::BucketTree(const SiteSet& sites) {
+BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(1, capacity)) {
   const Quantiser quantiser(sites.bounds);
   origin_x_ = quantiser.origin_x;
   origin_y_ = quantiser.origin_y;
@@ -119,7 +119,7 @@ BucketTree::BucketTree(const SiteSet& sites) {
   std::vector<std::int32_t> tasks;  // top index of each task's root
   for (std::size_t t = 0; t < tops.size(); ++t) {  // breadth first; placement below is depth first
     const Node node = tops[t].node;
-    if (is_bucket(node)) continue;
+    if (is_bucket(node, capacity_)) continue;
     if (static_cast<std::size_t>(node.end - node.begin) <= task_sites) {
       tops[t].task = static_cast<std::int32_t>(tasks.size());
       tasks.push_back(static_cast<std::int32_t>(t));
@@ -152,6 +152,9 @@ BucketTree::BucketTree(const SiteSet& sites) {
     for (std::int32_t i = root.begin; i < root.end; ++i) codes[static_cast<std::size_t>(i - root.begin)] = code_of(i);
     return [data = codes.data(), base = root.begin](std::int32_t i) -> const std::uint64_t& { return data[i - base]; };
   };
+  // Large buckets make few nodes: building them computes codes where it searches, instead of
+  // computing every site's code a second time.
+  const bool few_nodes = capacity_ >= 64;
   parallel_tasks(tasks.size(), [&](std::size_t task) {
     const Node& root = tops[tasks[task]].node;
     const auto code = task_codes(root);
@@ -160,7 +163,8 @@ BucketTree::BucketTree(const SiteSet& sites) {
     }
     int level = 0;
     while ((root.size << level) < (1u << quant_bits)) ++level;
-    task_nodes[task] = count_descendants(&code(root.begin), static_cast<std::size_t>(root.end - root.begin), level);
+    task_nodes[task] = count_descendants(&code(root.begin), static_cast<std::size_t>(root.end - root.begin), level,
+                                          capacity_);
   });
   if (!sorted.load()) {
     throw Error(ErrorCode::internal, "bucket tree built over sites that are not in Morton order");
@@ -189,16 +193,21 @@ BucketTree::BucketTree(const SiteSet& sites) {
   place(place, 0, 0);
   parallel_tasks(tasks.size(), [&](std::size_t task) {
     const Node& root = tops[tasks[task]].node;
-    const auto code = task_codes(root);
     std::size_t at = task_offset[task];
-    grow(nodes_.data(), at, root, code);
+    if (few_nodes) {
+      grow(nodes_.data(), at, root, code_of, capacity_);
+    } else {
+      grow(nodes_.data(), at, root, task_codes(root), capacity_);
+    }
     if (at != task_offset[task] + task_nodes[task]) sorted.store(false);  // cannot happen: counted alike
   });
   if (!sorted.load()) throw Error(ErrorCode::internal, "bucket tree: a subtree has not the size it was counted at");
-  // About four sites per cell when they are spread evenly. Every cell is covered by exactly
-  // one node of cell size or one bucket above it; the subtrees a few levels down fill
+  // About half a bucket (four sites for 8-site buckets) per cell when sites are spread evenly.
+  // Every cell is covered by exactly one node of cell size or one bucket above it; the
+  // subtrees a few levels down fill
   // disjoint blocks of cells, in parallel.
-  while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * 4 < count) ++grid_level_;
+  const std::size_t per_cell = std::max(1, capacity_ / 2);
+  while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * per_cell < count) ++grid_level_;
   cell_node_.resize(std::size_t{1} << (2 * grid_level_));
   std::vector<std::int32_t> roots{0};
   for (int level = 0; level < 4; ++level) {

@@ -38,7 +38,19 @@ class BucketTree {
 
   /// Precondition: sites as prepare_sites() returns them (in Morton order); throws
   /// Error(internal) otherwise. The tree refers to the sites by id, it keeps no copy.
-  explicit BucketTree(const SiteSet& sites);
+  /// Buckets hold at most `capacity` sites (unless they are a single quantum); larger buckets
+  /// make a much smaller tree that costs each search more (see coarse_capacity).
+  explicit BucketTree(const SiteSet& sites, int capacity = bucket_capacity);
+
+  /// Bucket capacity for a seam of `missing` triangles among `sites` sites: when the seam is
+  /// tiny next to the sites (a GPU leaves a few dozen triangles out of millions), building
+  /// the tree down to 8-site buckets costs far more than the seam's searches save by it.
+  static int seam_capacity(std::size_t sites, std::size_t missing) {
+    return missing > 0 && missing <= sites / 1024 ? coarse_capacity : bucket_capacity;
+  }
+  static constexpr int coarse_capacity = 256;
+
+  int capacity() const { return capacity_; }
 
   /// Quantised coordinate of a real one; monotone, clamped to [0, quant_max].
   std::uint32_t quantise_x(double x) const { return quantise(x - origin_x_); }
@@ -71,6 +83,7 @@ class BucketTree {
   void fill_cells(std::int32_t node);
 
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
+  int capacity_ = bucket_capacity;
   int grid_level_ = 0;
   HostVector<std::int32_t> cell_node_;
   HostVector<Node> nodes_;
