@@ -513,6 +513,8 @@ class VulkanBackend final : public Backend {
     std::memcpy(count, in_place ? counters.mapped() : out + o_counters, sizeof(count));
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
+    // Room for the whole triangulation, so that the seam stage appends in place.
+    reserve_full_triangulation(result.partial, n, input.hull.sites.size());
     finish_stars(g, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : download->mapped()),
                  count[0], result.partial);
     result.partial.deferred_expansions = count[1];
@@ -846,6 +848,7 @@ class VulkanBackend final : public Backend {
       throw Error(ErrorCode::internal, "Vulkan: block output overflowed its capacity");
     std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
     std::memcpy(raw.data(), download.mapped(), raw.size() * 4);
+    reserve_full_triangulation(result.partial, n, input.hull.sites.size());
     finish(s, raw, count[0], result);
     result.partial.deferred_expansions = count[1];
     result.iterations = count[3];
