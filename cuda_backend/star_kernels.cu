@@ -294,6 +294,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
 
   const auto host_emit = clock::now();
   auto& partial = result.partial;
+  // Room for the whole triangulation: the seam stage appends what deferred sites leave, and
+  // exactly-sized vectors would have to move (805 MB at 4096^2) first.
+  reserve_full_triangulation(partial, n, input.hull.sites.size());
   partial.triangles.resize(triangle_count);
   if (with_neighbors) partial.neighbors.resize(triangle_count);
   const auto host_allocated = clock::now();
