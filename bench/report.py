@@ -411,13 +411,14 @@ def star_work_section(records):
     for r in records:
         if r.get("experiment") != "star_work":
             continue
-        key = (r["distribution"], r["n"], r.get("grid", ""), r.get("budget", 0))
+        key = (r["distribution"], r["n"], r.get("grid", ""), r.get("search", "rings"), r.get("budget", 0))
         kept = by_host[host(r)]
         if key not in kept or r.get("run_id", "") > kept[key].get("run_id", ""):
             kept[key] = r
     out = []
     for hostname, kept in sorted(by_host.items()):
-        run = sorted(kept.values(), key=lambda r: (dist_order((r["distribution"], r["n"])), r.get("grid", "")))
+        run = sorted(kept.values(), key=lambda r: (dist_order((r["distribution"], r["n"])), r.get("grid", ""),
+                                                   r.get("search", "rings")))
         first = run[0]
         machine = first.get("machine", {})
         dates = sorted(r.get("date", "") for r in run)
@@ -431,10 +432,12 @@ def star_work_section(records):
                                                           ("deferred_full_row", "full row"),
                                                           ("deferred_no_apex", "no apex")) if r.get(k)]
             share = r["deferred"] / r["sites"] if r["sites"] else 0.0
-            rows.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), f"{r['predicates_per_site']:.1f}",
+            # Records from before the box scans (star_scan.cuh) have no "search": they are rings.
+            rows.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), r.get("search", "rings"),
+                         f"{r['predicates_per_site']:.1f}",
                          f"{r['work_per_site']:.1f}", f"{r['max_work']:,}", f"{r['sites_over_4096']:,}",
                          f"{r['deferred']:,} ({share:.3%})" + (f": {', '.join(reasons)}" if reasons else "")])
-        out.append(table(["distribution", "n", "grid", "predicates / site", "cells + sites / site",
+        out.append(table(["distribution", "n", "grid", "search", "predicates / site", "cells + sites / site",
                           "max one site", "sites > 4096", "sites deferred"], rows))
     return "\n".join(out) if out else NOT_MEASURED
 

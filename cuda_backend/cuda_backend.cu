@@ -170,6 +170,7 @@ class CudaBackend final : public Backend {
     EXPANSE_CUDA(cudaGetDeviceProperties(&props, device));
     ctx_.name = props.name;
     ctx_.total_memory = props.totalGlobalMem;
+    ctx_.multiprocessors = props.multiProcessorCount;
     // Keep pool memory between calls: repeated triangulations then allocate nothing.
     cudaMemPool_t pool = nullptr;
     EXPANSE_CUDA(cudaDeviceGetDefaultMemPool(&pool, device));
@@ -186,10 +187,13 @@ class CudaBackend final : public Backend {
       throw Error(ErrorCode::device_error, "CUDA backend: device arithmetic self-test failed on " + ctx_.name + ": " + why);
     staging_ = std::make_unique<PinnedStaging>();
     ctx_.staging = staging_.get();
+    EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), 16 * sizeof(unsigned int),
+                               cudaHostAllocDefault));
   }
 
   ~CudaBackend() override {
     staging_.reset();
+    if (ctx_.pinned_words) cudaFreeHost(ctx_.pinned_words);
     if (ctx_.own_stream && ctx_.stream) {
       cudaStreamSynchronize(ctx_.stream);
       cudaStreamDestroy(ctx_.stream);

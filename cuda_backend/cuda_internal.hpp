@@ -64,7 +64,9 @@ struct Context {
   bool own_stream = false;
   std::string name;
   std::size_t total_memory = 0;
+  int multiprocessors = 1;
   PinnedStaging* staging = nullptr;
+  unsigned int* pinned_words = nullptr;  ///< 16 pinned words for small asynchronous read-backs
 };
 
 /// Per-site star layout (docs/algorithm.md, "GPU, per-site seeding").

@@ -10,10 +10,13 @@
 #include <cuda_runtime.h>
 #define EXPANSE_DEVICE __device__ inline
 #define EXPANSE_DEVICE_FORCE __device__ __forceinline__
+#define EXPANSE_DEVICE_NOINLINE __device__ __noinline__
 #define EXPANSE_HOST_DEVICE __host__ __device__ inline
 
 namespace expanse::detail::cuda {
 __device__ __forceinline__ double load_readonly(const double* p) { return __ldg(p); }
+__device__ __forceinline__ double2 load_site(const double2* points, int i) { return __ldg(points + i); }
+__device__ __forceinline__ std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return __ldg(starts + c); }
 }  // namespace expanse::detail::cuda
 
 #else
@@ -21,6 +24,7 @@ __device__ __forceinline__ double load_readonly(const double* p) { return __ldg(
 #include <cmath>
 #define EXPANSE_DEVICE inline
 #define EXPANSE_DEVICE_FORCE inline
+#define EXPANSE_DEVICE_NOINLINE inline
 #define EXPANSE_HOST_DEVICE inline
 
 /// CUDA's vector type, for host builds only (host translation units that include these headers
@@ -32,6 +36,8 @@ inline double2 make_double2(double x, double y) { return {x, y}; }
 
 namespace expanse::detail::cuda {
 inline double load_readonly(const double* p) { return *p; }
+inline double2 load_site(const double2* points, int i) { return points[i]; }
+inline std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return starts[c]; }
 using std::fabs;
 using std::fmax;
 using std::fmin;

@@ -15,7 +15,7 @@
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
 #include "star_grid.hpp"
-#include "star_walk.cuh"
+#include "star_scan.cuh"
 
 namespace expanse::detail::cuda {
 
@@ -83,9 +83,11 @@ class HostStarLayout {
     grid_.cell_start = cell_start_.data();
   }
 
-  /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET), spread over
+  /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
+  /// kernel's default for the search), spread over
   /// `threads` host threads; the result does not depend on their number.
-  StarWorkTotals walk_all(unsigned budget = 1u << 14, unsigned threads = 1) {
+  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes) {
+    if (budget == 0) budget = default_budget(search);
     const std::size_t n = points_.size();
     star_.assign(n * kStar, -1);
     info_.assign(n, 0);
@@ -94,7 +96,10 @@ class HostStarLayout {
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
       for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
-        const StarWalk w = walk_star(grid_, pred_.data(), static_cast<int>(i), star_.data() + i * kStar, budget);
+        int* row = star_.data() + i * kStar;
+        const StarWalk w = search == StarSearch::boxes
+                               ? walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i), row, budget)
+                               : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
         ++totals.sites;
         totals.predicates += w.predicates;
         totals.work += w.work;

@@ -18,8 +18,9 @@
 #include <cstring>
 
 #include "cuda_internal.hpp"
+#include "input/parallel.hpp"
 #include "star_grid.hpp"
-#include "star_walk.cuh"
+#include "star_scan.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
@@ -73,15 +74,23 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, do
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
 }
 
-__global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, int n, int* star,
-                                                   std::uint32_t* info, int* owned,
-                                                   unsigned int* counters, unsigned budget) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
+/// Which pass of the star walks a site is in. Most sites finish within a small budget; the few
+/// that run past it (hull-hugging and sparse-region sites whose searches span whole columns of
+/// the grid) hold their warps, and so their blocks' multiprocessor slots, long after the rest
+/// are done (ncu, 1024^2 uniform: multiprocessors active 33% of the kernel's time). Optionally
+/// (EXPANSE_CUDA_FIRST_BUDGET) a first pass lists them, and a second walks them again with the
+/// full budget.
+enum class WalkPass { only, first, retry };
+
+template <StarSearch Search>
+__device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
+                                                std::uint32_t* info, int* owned, unsigned int* counters,
+                                                unsigned budget, WalkPass pass, int* retry_list) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
-  const StarWalk w = walk_star(g, pred, i, row, budget);
+  const StarWalk w = walk_star_by<Search>(g, pred, i, row, budget);
   const unsigned predicates = w.predicates, cells = w.work;
-  // One atomic per warp for the predicate count; the deferred count is rare.
+  // One atomic per warp for the predicate count (first attempts of retried sites included);
+  // the deferred count is rare.
   const unsigned active = __activemask();
   const unsigned warp_total = __reduce_add_sync(active, predicates);
   const unsigned warp_max = __reduce_max_sync(active, cells);
@@ -89,17 +98,50 @@ __global__ void __launch_bounds__(128) star_kernel(GridView g, const int* pred, 
     atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
     atomicMax(counters + 4, warp_max);
   }
-  if (cells > 4096) atomicAdd(counters + 5, 1u);
-  if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
+  if (pass != WalkPass::retry && cells > 4096) atomicAdd(counters + 5, 1u);
   if (!w.ok) {
     info[i] = kDeferredBit;
     owned[i] = 0;
+    if (pass == WalkPass::first && cells > budget) {
+      retry_list[atomicAdd(counters + 7, 1u)] = i;
+      return;
+    }
+    if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
     atomicAdd(counters, 1u);
     return;
   }
   const std::uint32_t inf = star_info(w);
   info[i] = inf;
   owned[i] = owned_triangles(star, inf, i);
+}
+
+template <StarSearch Search, int MinBlocks>
+__global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
+                                                              std::uint32_t* info, int* owned,
+                                                              unsigned int* counters, unsigned budget,
+                                                              const int* order, WalkPass pass, int* retry_list) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= n) return;
+  // Thread t walks local site order[t], or t: cell order measured faster than the sites'
+  // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
+  const int i = order ? order[t] : t;
+  walk_and_record<Search>(g, pred, i, star, info, owned, counters, budget, pass, retry_list);
+}
+
+/// The second pass: the sites the first listed (counters[7] of them), with the full budget, one
+/// site per warp. Packed 32 to a warp they ran 2.7x slower than the single pass (H100, uniform
+/// 4096^2: 623 against 233 ms): their divergent searches serialise, so a warp of heavy sites
+/// takes about the sum of their work rather than the most.
+template <StarSearch Search, int MinBlocks>
+__global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
+                                                                    std::uint32_t* info, int* owned,
+                                                                    unsigned int* counters, unsigned budget,
+                                                                    const int* retry_list) {
+  if ((threadIdx.x & 31) != 0) return;
+  const unsigned count = counters[7];
+  const unsigned warps = gridDim.x * (blockDim.x / 32);
+  for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < count; k += warps)
+    walk_and_record<Search>(g, pred, retry_list[k], star, info, owned, counters, budget, WalkPass::retry, nullptr);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -148,6 +190,39 @@ __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::u
   }
 }
 
+/// The host audit's checks (seam/adjacency_audit.cpp) where the adjacency is made, before it
+/// crosses the bus: every link leads to a triangle that holds the same edge the other way round
+/// and links back across it; a missing link must be a hull edge (pred[] is in local ids, the
+/// triangles in site ids). result[0] counts bad links, result[1] open edges inside the hull (the
+/// seam's, when sites deferred). Random reads of 805 MB take the host's cores ~300 ms at 4096^2;
+/// the device's memory, a few milliseconds.
+__global__ void audit_kernel(const int* triangles, const int* neighbors, int count, const int* rank, const int* pred,
+                             unsigned int* result) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= count) return;
+  unsigned bad = 0, open = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int x = triangles[3 * static_cast<std::size_t>(t) + (k + 1) % 3];
+    const int y = triangles[3 * static_cast<std::size_t>(t) + (k + 2) % 3];
+    const int u = neighbors[3 * static_cast<std::size_t>(t) + k];
+    if (u == -1) {
+      open += pred[rank[y]] != rank[x];  // x->y on the hull: y's predecessor is x
+      continue;
+    }
+    if (u < 0 || u >= count) {
+      ++bad;
+      continue;
+    }
+    int j = 0;
+    while (j < 3 && !(triangles[3 * static_cast<std::size_t>(u) + (j + 1) % 3] == y &&
+                      triangles[3 * static_cast<std::size_t>(u) + (j + 2) % 3] == x))
+      ++j;
+    bad += j == 3 || neighbors[3 * static_cast<std::size_t>(u) + j] != t;
+  }
+  if (bad) atomicAdd(result, bad);
+  if (open) atomicAdd(result + 1, open);
+}
+
 constexpr int kThreads = 256;
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
@@ -169,7 +244,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   // Fail early, with the right error, when the working set cannot fit.
   {
     const std::size_t per_site = 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 5 * sizeof(int) +
-                                 kStar * sizeof(int) + 2 * 2 * 3 * sizeof(int) + 64;
+                                 kStar * sizeof(int) + 2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
     const std::size_t need = n * per_site + cells * sizeof(std::uint32_t) + (std::size_t{64} << 20);
     std::size_t free_bytes = 0, total_bytes = 0;
     EXPANSE_CUDA(cudaMemGetInfo(&free_bytes, &total_bytes));
@@ -198,6 +273,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   DeviceArray<unsigned int> d_counters(8, stream);
+  DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
 
   // Grid kind: quantile boundaries (default; robust to clustering) or uniform cells.
   // EXPANSE_CUDA_GRID=uniform selects the old grid (for comparisons); EXPANSE_CUDA_BUDGET sets the
@@ -205,7 +281,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
   const bool quantile = !(grid_env && std::strcmp(grid_env, "uniform") == 0) && n >= 64;
   const char* budget_env = std::getenv("EXPANSE_CUDA_BUDGET");
-  const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10)) : (1u << 14);
+  // EXPANSE_CUDA_SEARCH=rings selects the ring searches of star_walk.cuh (for comparisons).
+  const char* search_env = std::getenv("EXPANSE_CUDA_SEARCH");
+  const bool rings = search_env && std::strcmp(search_env, "rings") == 0;
+  const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10))
+                                     : default_budget(rings ? StarSearch::rings : StarSearch::boxes);
   const int samples = quantile_sample_count(n);
   DeviceArray<double> d_xb(quantile ? shape.gx + 1 : 0, stream), d_yb(quantile ? shape.gy + 1 : 0, stream);
   DeviceArray<double> d_sx(quantile ? samples : 0, stream), d_sy(quantile ? samples : 0, stream);
@@ -262,8 +342,45 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   g.cell_start = d_cell_start.get();
   g.points = d_sorted.get();
   timer.begin("stars");
-  star_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(g, d_pred.get(), static_cast<int>(n), d_star.get(),
-                                                      d_info.get(), d_owned.get(), d_counters.get(), budget);
+  // EXPANSE_CUDA_BLOCKS_PER_SM (4 or 8) caps the star kernel's registers so that that many
+  // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread).
+  // 8 (64 registers) measured fastest on the H100 (2026-11-23, 4096^2: uniform 230 ms against
+  // 237 at 4 and 304 at 2; kuzmin 634 against 680 and 866).
+  const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
+  const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : 8;
+  // EXPANSE_CUDA_FIRST_BUDGET=B walks the sites in two passes (WalkPass), the first with budget
+  // B. Measured on the H100 (2026-11-23, 4096^2, star kernel): with B = 4096, kuzmin 406 ms
+  // against 629 in one pass, but uniform 285 against 228 (the second pass runs the costliest
+  // site after the rest instead of beside it). One pass is the default.
+  const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
+  const unsigned first_budget = rings || !first_env ? 0u : static_cast<unsigned>(std::strtoul(first_env, nullptr, 10));
+  const bool two_passes = first_budget > 0 && first_budget < budget;
+  // EXPANSE_CUDA_ORDER=morton runs the threads in the sites' Morton order (prepare_sites sorts
+  // them so; rank maps a site to its local id) instead of cell order.
+  const char* order_env = std::getenv("EXPANSE_CUDA_ORDER");
+  const int* order = order_env && std::strcmp(order_env, "morton") == 0 ? d_rank.get() : nullptr;
+  const int retry_blocks = 8 * ctx.multiprocessors;
+  const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
+  const unsigned pass_budget = two_passes ? first_budget : budget;
+  if (rings) {
+    star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
+        g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
+        order, WalkPass::only, nullptr);
+  } else if (blocks_per_sm >= 8) {
+    star_kernel<StarSearch::boxes, 8><<<blocks_for(n, 128), 128, 0, stream>>>(
+        g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+        pass_budget, order, pass, d_retry.get());
+    if (two_passes)
+      star_retry_kernel<StarSearch::boxes, 8><<<retry_blocks, 128, 0, stream>>>(
+          g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
+  } else {
+    star_kernel<StarSearch::boxes, 4><<<blocks_for(n, 128), 128, 0, stream>>>(
+        g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+        pass_budget, order, pass, d_retry.get());
+    if (two_passes)
+      star_retry_kernel<StarSearch::boxes, 4><<<retry_blocks, 128, 0, stream>>>(
+          g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
+  }
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
@@ -273,13 +390,30 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
                                              static_cast<int>(n), stream));
   timer.end();
 
-  // The one synchronisation before the output: its size.
+  // The one synchronisation before the output: its size. The words go to pinned memory, so the
+  // copies stay asynchronous and the host readies the output while the device works.
   // triangles, then counter words 0..6: [0] deferred, [2..3] predicates (u64), [4] max work per
   // site, [5] sites over 4096 work units, [6] sites deferred by the work budget.
-  unsigned int sizes[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[0], d_offset.get() + n, sizeof(int), cudaMemcpyDeviceToHost, stream));
-  EXPANSE_CUDA(cudaMemcpyAsync(&sizes[1], d_counters.get(), 7 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+  unsigned int* const words = ctx.pinned_words;
+  EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_offset.get() + n, sizeof(int), cudaMemcpyDeviceToHost, stream));
+  EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_counters.get(), 7 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+
+  // Room for the whole triangulation (2n - h - 2), which is also the most the device can make:
+  // the seam stage appends what deferred sites leave in place, where exactly-sized vectors would
+  // have to move (805 MB at 4096^2) first. Fresh pages are faulted in on every core and zeroed
+  // while the star kernel runs: done after it, this took ~460 ms at 4096^2 on the H100's host.
+  const auto host_launched = clock::now();
+  auto& partial = result.partial;
+  reserve_full_triangulation(partial, n, input.hull.sites.size());
+  prefault_capacity(partial.triangles);
+  prefault_capacity(partial.neighbors);
+  partial.triangles.resize(partial.triangles.capacity());
+  partial.neighbors.resize(partial.neighbors.capacity());
+  const auto host_allocated = clock::now();
+
   EXPANSE_CUDA(cudaStreamSynchronize(stream));
+  unsigned int sizes[8];
+  std::memcpy(sizes, words, sizeof sizes);
   const std::size_t triangle_count = sizes[0];
   const bool with_neighbors = true;
 
@@ -291,15 +425,21 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
                                                       d_neighbors.get());
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
+  if (with_neighbors && triangle_count > 0) {
+    timer.begin("audit");
+    EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 2 * sizeof(unsigned int), stream));
+    audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
+        d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
+        d_counters.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    EXPANSE_CUDA(cudaMemcpyAsync(&words[8], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
+                                 stream));
+    timer.end();
+  }
 
   const auto host_emit = clock::now();
-  auto& partial = result.partial;
-  // Room for the whole triangulation: the seam stage appends what deferred sites leave, and
-  // exactly-sized vectors would have to move (805 MB at 4096^2) first.
-  reserve_full_triangulation(partial, n, input.hull.sites.size());
-  partial.triangles.resize(triangle_count);
-  if (with_neighbors) partial.neighbors.resize(triangle_count);
-  const auto host_allocated = clock::now();
+  partial.triangles.resize(triangle_count);  // shrinks: no reallocation
+  partial.neighbors.resize(with_neighbors ? triangle_count : 0);
   timer.begin("download");
   ctx.staging->download(partial.triangles.data(), d_triangles.get(), d_triangles.bytes(), stream);
   if (with_neighbors) ctx.staging->download(partial.neighbors.data(), d_neighbors.get(), d_neighbors.bytes(), stream);
@@ -307,6 +447,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   const auto host_done = clock::now();
 
   partial.deferred_expansions = sizes[1];
+  // The download synchronised the stream: the audit's words are in.
+  if (with_neighbors && triangle_count > 0) {
+    if (words[8] != 0) partial.neighbors.clear();  // untrusted: the pipeline derives them
+    result.adjacency_audited = words[8] == 0 && words[9] == 0;
+  }
   RunCounters& counters = last_run_counters();
   counters = {};
   std::uint64_t predicates = 0;
@@ -322,9 +467,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   result.device_stages = timer.collect();
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   result.host_stages.push_back({"cuda upload (host)", ms(host_start, host_uploaded)});
-  result.host_stages.push_back({"cuda device work (host wait)", ms(host_uploaded, host_emit)});
-  result.host_stages.push_back({"cuda output allocation (host)", ms(host_emit, host_allocated)});
-  result.host_stages.push_back({"cuda download (host)", ms(host_allocated, host_done)});
+  result.host_stages.push_back({"cuda output allocation (host, while the device works)", ms(host_launched, host_allocated)});
+  result.host_stages.push_back({"cuda device work (host wait)", ms(host_uploaded, host_emit) - ms(host_launched, host_allocated)});
+  result.host_stages.push_back({"cuda download (host)", ms(host_emit, host_done)});
 }
 
 }  // namespace expanse::detail::cuda

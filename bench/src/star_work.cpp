@@ -4,7 +4,8 @@
 // sites defer to the seam stage. One JSON line per (distribution, n, grid).
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
-//                           [--budget 16384] [--threads 2] [-o FILE.jsonl] [--note TEXT]
+//                           [--search boxes,rings] [--budget N] [--threads 2] [-o FILE.jsonl]
+//                           [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -23,7 +24,8 @@ int main(int argc, char** argv) {
   std::string output, note;
   std::vector<std::string> dists{"uniform", "gaussian", "kuzmin"};
   std::vector<std::string> grids{"quantile"};
-  unsigned budget = 1u << 14;
+  std::vector<std::string> searches{"boxes"};
+  unsigned budget = 0;  // the kernel's default for each search
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -31,7 +33,8 @@ int main(int argc, char** argv) {
   app.add_option("--note", note, "free text stored in every record");
   app.add_option("--dist", dists, "distributions (expanse generate names)")->delimiter(',');
   app.add_option("--grid", grids, "quantile and/or uniform")->delimiter(',');
-  app.add_option("--budget", budget, "work units after which a site defers");
+  app.add_option("--search", searches, "boxes and/or rings (cuda_backend/star_scan.cuh)")->delimiter(',');
+  app.add_option("--budget", budget, "work units after which a site defers (default: the kernel's)");
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
@@ -47,14 +50,16 @@ int main(int argc, char** argv) {
       const std::vector<expanse::Point2> points = expanse::generate_points(dist, n, 1);
       const expanse::detail::SiteSet sites = expanse::detail::prepare_sites(points);
       const expanse::detail::Hull hull = expanse::detail::convex_hull(sites);
-      for (const std::string& grid : grids) {
+      for (const std::string& grid : grids) for (const std::string& search : searches) {
+        using expanse::detail::cuda::StarSearch;
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
-        const auto t = layout.walk_all(budget, threads);
+        const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
+        const auto t = layout.walk_all(budget, threads, kind);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
             {"distribution", dist}, {"n", n}, {"sites", t.sites},
-            {"grid", grid}, {"budget", budget}, {"sites_per_bucket", sites_per_bucket},
+            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"sites_over_4096", t.sites_over_4096}, {"sites_over_budget", t.sites_over_budget},

@@ -6,6 +6,10 @@
 #include <mutex>
 #include <thread>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace expanse::detail {
 namespace {
 
@@ -133,6 +137,18 @@ void parallel_tasks(std::size_t count, void (*task)(void*, std::size_t), void* c
     }
   }
   if (first) std::rethrow_exception(first);
+}
+
+void advise_huge_pages(void* begin, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t huge = std::uintptr_t{2} << 20;
+  const auto first = (reinterpret_cast<std::uintptr_t>(begin) + huge - 1) & ~(huge - 1);
+  const auto last = (reinterpret_cast<std::uintptr_t>(begin) + bytes) & ~(huge - 1);
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // a hint: errors ignored
+#else
+  (void)begin;
+  (void)bytes;
+#endif
 }
 
 }  // namespace expanse::detail

@@ -101,7 +101,7 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
     detail::PartialTriangulation& partial = grown.partial;
     const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
     // Device adjacency is used only if it passes the audit; otherwise it is derived here.
-    if (!partial.neighbors.empty()) {
+    if (!partial.neighbors.empty() && !grown.adjacency_audited) {
       const bool trusted = timed(stats, "audit", [&] { return detail::adjacency_is_trustworthy(partial, hull); });
       if (!trusted) partial.neighbors.clear();
     }

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Bundles what bench/device/run-on-device.sh runs into .devrun/bundle.tar.xz (git-ignored,
+# carried with the device tool's `carry`): the test and benchmark programs of a CUDA build, their
+# shared libraries, the Khronos validation layer (the GPU machine has no Debian packages), and
+# the commit they were built from. Compressed: each program links every backend's kernels, and
+# the tool carries at most 64 MiB.
+#
+#   bash bench/device/bundle.sh [BUILD_DIR]     (default: build-device)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+build="$(realpath "${1:-$root/build-device}")"
+cd "$root"
+rm -rf .devrun
+mkdir -p .devrun
+../shared/device/bundle.sh \
+  "$build/tools/expanse" \
+  "$build/tests/expanse_conformance" \
+  "$build/tests/cuda/expanse_cuda_tests" \
+  "$build/cuda_backend/expanse_bench_cuda" \
+  "$build/tests/vulkan/expanse_vulkan_bench" \
+  "$build/bench/expanse-bench" \
+  "$build/bench/expanse-bench-host-stages" >/dev/null
+layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
+manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+if [[ -f $layer && -f $manifest ]]; then
+  mkdir -p .devrun/layers
+  strip -o .devrun/layers/libVkLayer_khronos_validation.so "$layer"
+  # A relative library_path is read relative to the manifest.
+  sed 's|"library_path": *"[^"]*"|"library_path": "./libVkLayer_khronos_validation.so"|' \
+    "$manifest" >.devrun/layers/VkLayer_khronos_validation.json
+fi
+git describe --always --dirty --abbrev=12 >.devrun/COMMIT
+tar -C .devrun -cf - --exclude=bundle.tar.xz . | xz -T2 -6 >.devrun.tar.xz
+find .devrun -mindepth 1 -delete
+mv .devrun.tar.xz .devrun/bundle.tar.xz
+du -sh .devrun

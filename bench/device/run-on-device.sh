@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Runs on the GPU machine (the `device` tool), in a copy of this checkout, with the programs that
+# bench/device/bundle.sh put into .devrun/ and the loader packages in .gl/. Writes at most eight
+# files under $OUT (the tool's limit): one log per step group and the benchmark JSON lines.
+#
+#   bash bench/device/run-on-device.sh STEP...
+#
+# Steps (each under its own time limit, so one hang cannot eat the whole call):
+#   env          nvidia-smi, vulkan device list                 -> env.txt
+#   tests        CUDA tests, conformance on CUDA and on Vulkan   -> tests.log
+#                (Vulkan with the Khronos validation layer carried in .devrun/layers)
+#   sanitizer    compute-sanitizer memcheck/racecheck/initcheck/synccheck on the small cases
+#                                                                -> sanitizer.log
+#   bench-cuda   expanse_bench_cuda 512^2 .. 4096^2 x 4 distributions
+#                                                  -> bench-cuda[-TAG].jsonl (log: bench.log)
+#   bench-vulkan expanse_vulkan_bench on NVIDIA's driver         -> bench-vulkan.jsonl
+#   experiments  bench/run.sh --full on CUDA and Vulkan           -> results/*.jsonl
+#   summary      a short table of the bench-cuda records, printed last (the tool returns the
+#                end of the output)
+# EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
+# EXPANSE_BENCH_TAG names its output (for variants selected by environment variables).
+set -u
+cd "$(dirname "$0")/../.."
+out="${OUT:-/tmp/expanse-device-out}"
+mkdir -p "$out"
+if [[ -f .devrun/bundle.tar.xz && ! -f .devrun/COMMIT ]]; then  # bench/device/bundle.sh's archive
+  python3 -c 'import tarfile; tarfile.open(".devrun/bundle.tar.xz").extractall(".devrun")'
+fi
+for f in .gl/*.deb; do dpkg -x "$f" /; done
+ldconfig
+export LD_LIBRARY_PATH="$PWD/.devrun/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+nvidia_icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+[[ -f $nvidia_icd ]] && export VK_DRIVER_FILES="$nvidia_icd"
+[[ -d .devrun/layers ]] && export VK_LAYER_PATH="$PWD/.devrun/layers"
+bin=.devrun
+commit="$(cat .devrun/COMMIT 2>/dev/null || echo unknown)"
+
+# step NAME LIMIT LOG COMMAND...: runs COMMAND, appends its output to LOG, prints one status line.
+step() {
+  local name="$1" limit="$2" log="$3"
+  shift 3
+  local start=$SECONDS
+  echo "===== $name: $*" >>"$log"
+  timeout --kill-after=10 "$limit" "$@" >>"$log" 2>&1
+  local rc=$?
+  echo "===== $name: exit $rc after $((SECONDS - start)) s" >>"$log"
+  printf '%-28s exit %3d  %4d s\n' "$name" "$rc" "$((SECONDS - start))"
+}
+
+for what in "$@"; do
+  case "$what" in
+    env)
+      { date -u; nvidia-smi; nvidia-smi -q | grep -iE 'clocks|MHz|persistence|product name' | head -30
+        nproc; free -g; echo "commit $commit"; "$bin/expanse" info; } >"$out/env.txt" 2>&1 ;;
+    tests)
+      log="$out/tests.log"
+      step "cuda: backend" 300 "$log" "$bin/expanse_cuda_tests"
+      step "conformance: cuda" 420 "$log" "$bin/expanse_conformance" --backend cuda
+      EXPANSE_VULKAN_VALIDATION=1 step "conformance: vulkan" 420 "$log" "$bin/expanse_conformance" --backend vulkan
+      ;;
+    sanitizer)
+      log="$out/sanitizer.log"
+      for tool in memcheck racecheck initcheck synccheck; do
+        step "sanitizer $tool" 240 "$log" compute-sanitizer --tool "$tool" --error-exitcode 9 \
+          "$bin/expanse_cuda_tests" --small
+      done ;;
+    bench-cuda)
+      tag="${EXPANSE_BENCH_TAG:+-$EXPANSE_BENCH_TAG}"
+      step "bench_cuda$tag" "${EXPANSE_BENCH_LIMIT:-540}" "$out/bench.log" sh -c "$bin/expanse_bench_cuda \
+        --sizes ${EXPANSE_BENCH_SIZES:-512,1024,2048,4096} \
+        --dists ${EXPANSE_BENCH_DISTS:-uniform,gaussian,grid,kuzmin} \
+        --reps ${EXPANSE_BENCH_REPS:-5} > $out/bench-cuda$tag.jsonl" ;;
+    bench-vulkan)
+      for n in 262144 1048576 4194304 16777216; do
+        for dist in uniform gaussian; do
+          step "vulkan $dist $n" 120 "$out/bench.log" sh -c \
+            "$bin/expanse_vulkan_bench $n $dist per-site 4 >> $out/bench-vulkan.jsonl"
+        done
+      done ;;
+    experiments)
+      # run.sh looks for its programs in BUILD/bench/.
+      mkdir -p .devrun/build/bench
+      cp -f "$bin"/expanse-bench* .devrun/build/bench/
+      step "bench/run.sh" 560 "$out/experiments.log" bash bench/run.sh --full --no-build \
+        --build-dir .devrun/build --experiments "${EXPANSE_EXPERIMENTS:-scaling}" --gpu cuda,vulkan \
+        --commit "$commit" --results "$out/results" --no-report --note "device run" ;;
+    summary)
+      python3 - "$out" <<'PY'
+import glob, json, os, sys
+for path in sorted(glob.glob(os.path.join(sys.argv[1], "bench-cuda*.jsonl"))):
+    print(os.path.basename(path))
+    for line in open(path):
+        r = json.loads(line)
+        if "error" in r:
+            print(f"  {r['distribution']:9} {r['side']:5}  error: {r['error']}")
+            continue
+        st = r.get("device_stages_ms", {})
+        print(f"  {r['distribution']:9} {r['side']:5} h2h {r.get('host_to_host_ms', 0):9.1f}  gpu {r['gpu_ms']:8.2f}"
+              f"  stars {st.get('stars', 0):8.2f}  backend {r['backend_ms']:8.1f}  seam {r.get('seam_share', 0):.2e}"
+              f"  deferred {r['deferred']}  maxwork {r['max_cells_per_site']}")
+PY
+      ;;
+    *) echo "run-on-device.sh: unknown step $what" >&2; exit 2 ;;
+  esac
+done

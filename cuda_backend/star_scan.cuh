@@ -1,0 +1,383 @@
+#pragma once
+// One site's star found by box scans: the same walk as walk_star (star_walk.cuh), the searches
+// shaped like the Vulkan kernel's (shaders/star.comp) so that a warp's threads stay together.
+//
+// walk_star nests each search in rings of cells, and each thread of a warp sits at a different
+// depth of that nest (a ring, a cell, a candidate, an exact predicate): the warp runs each level
+// for the threads that happen to be there and waits for the slowest. Here every thread runs one
+// flat loop whose innermost body is the same for all of them, whatever the thread is searching:
+//   candidate loop (innermost): one candidate site, floating-point filters only, no branches
+//                               that differ by search phase;
+//   scan loop:   the next row segment of the box being scanned. Cells are sorted row-major,
+//                so a row of a box is one contiguous range of sites;
+//   search loop: a box is scanned: plan the next box from the best candidate's region
+//                (circle ∩ left half-plane, circle_region), or take the walk's next step;
+//   exact loop:  a candidate the filters could not decide: exact predicates and CGAL's
+//                perturbation (rare), then back into the scan after it.
+// A search ends when the best candidate's region lies inside the cells visited.
+#include "star_walk.cuh"
+
+namespace expanse::detail::cuda {
+
+/// Searches by box scans that re-plan on a better candidate once a box has grown past this many
+/// cells (star.comp's big_scan_cells at two sites per cell: ~48 sites' worth of cells).
+inline constexpr int kBigScanCells = 24;
+
+/// A box of cells, bounds inclusive; empty when x0 > x1.
+struct CellBox {
+  int x0, y0, x1, y1;
+};
+
+EXPANSE_DEVICE_FORCE int box_cells(const CellBox& b) {
+  return max(b.x1 - b.x0 + 1, 0) * max(b.y1 - b.y0 + 1, 0);
+}
+
+EXPANSE_DEVICE_FORCE bool box_inside(const CellBox& inner, const CellBox& outer) {
+  return inner.x0 >= outer.x0 && inner.y0 >= outer.y0 && inner.x1 <= outer.x1 && inner.y1 <= outer.y1;
+}
+
+/// The cells that hold every site with lo <= x <= hi, lo_y <= y <= hi_y (cell_x, cell_y are
+/// monotone, so no rounding can leave a site out).
+EXPANSE_DEVICE_FORCE CellBox cells_of(const GridView& g, double x_lo, double y_lo, double x_hi, double y_hi) {
+  return {g.cell_x(x_lo), g.cell_y(y_lo), g.cell_x(x_hi), g.cell_y(y_hi)};
+}
+
+/// What a search still has to look at: the left half-plane of a->b (apex searches) and, once a
+/// candidate is known, a disc holding the region where a better one could lie. Both only
+/// shrink during a search, so cells outside them never need a look, now or later.
+struct SearchBounds {
+  bool apex = false;  ///< an apex search (the half-plane applies); false: nearest neighbour
+  bool disc = false;
+  double2 a, b;
+  double ox = 0.0, oy = 0.0, reach = 0.0;
+};
+
+/// Narrows the row segment [*x0, *x1] of row y to the cells that can hold a site inside
+/// `bounds`, with margins far above the rounding of these few operations (pruning only: the
+/// candidates are still tested exactly). Sites on wide flat hull sides, and any long edge, have
+/// a search box much larger than the thin region inside it; rows cut to it cost a fraction.
+EXPANSE_DEVICE_FORCE void clip_row(const GridView& g, int y, const SearchBounds& bounds, int* x0, int* x1) {
+  double yl, yh;
+  g.y_bounds(y, &yl, &yh);
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  if (bounds.disc) {
+    const double dy = fmax(fmax(yl - bounds.oy, bounds.oy - yh), 0.0);
+    if (dy > bounds.reach * (1.0 + 1e-9)) {
+      *x1 = *x0 - 1;
+      return;
+    }
+    const double half = sqrt(fmax(bounds.reach * bounds.reach * (1.0 + 4e-9) - dy * dy, 0.0)) * (1.0 + 1e-9) +
+                        1e-9 * bounds.reach + 1e-300;
+    lo = bounds.ox - half - 1e-15 * fabs(bounds.ox);
+    hi = bounds.ox + half + 1e-15 * fabs(bounds.ox);
+  }
+  if (bounds.apex) {
+    // Left of a->b: ex (py - ay) > ey (px - ax). In the row's band of y, for ey > 0 that is
+    // x < ax + ex (py - ay) / ey at its largest; for ey < 0, x > the smallest.
+    const double2 a = bounds.a;
+    const double ex = bounds.b.x - a.x, ey = bounds.b.y - a.y;
+    if (ey != 0.0) {
+      const double t1 = ex * (yl - a.y) / ey, t2 = ex * (yh - a.y) / ey;
+      const double slop = 1e-9 * (fabs(a.x) + fabs(t1) + fabs(t2) + fabs(ex)) + 1e-300;
+      if (ey > 0.0)
+        hi = fmin(hi, a.x + fmax(t1, t2) + slop);
+      else
+        lo = fmax(lo, a.x + fmin(t1, t2) - slop);
+    } else {
+      const double slop = 1e-9 * fabs(a.y) + 1e-300;
+      if ((ex > 0.0 && yh < a.y - slop) || (ex < 0.0 && yl > a.y + slop)) {
+        *x1 = *x0 - 1;
+        return;
+      }
+    }
+  }
+  if (lo > -HUGE_VAL) *x0 = max(*x0, g.cell_x(lo));
+  if (hi < HUGE_VAL) *x1 = min(*x1, g.cell_x(hi));
+}
+
+/// The exact verdict on candidate ip at p, which the filters could not decide: 1 if it is better
+/// than `best` (nearer to s, or a smaller circle's apex of a->b under CGAL's perturbation), 0 if
+/// not, 2 if the device cannot decide. Out of line: the exact arithmetic needs far more registers
+/// than the scan, and inlined it would set the register count, and so the occupancy, of the
+/// whole kernel for a path few candidates take.
+EXPANSE_DEVICE_NOINLINE int decide_exactly(bool nearest, double2 ps, double2 pa, double2 pb, int best, double2 best_p,
+                                           int ip, double2 p) {
+  if (nearest) {
+    const int cmp = compare_distance(ps, p, best_p);
+    return cmp == kUncertain ? 2 : (cmp < 0 || (cmp == 0 && ip < best)) ? 1 : 0;
+  }
+  const int o = orient(pa, pb, p);
+  if (o == kUncertain) return 2;
+  if (o <= 0) return 0;
+  const int sign = best < 0 ? 1 : incircle_perturbed(pa, pb, best_p, p);
+  return sign == kUncertain ? 2 : sign > 0 ? 1 : 0;
+}
+
+EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+  enum Phase : int { nearest, ccw, cw, done, deferred };
+  constexpr int kNone = 1 << 29;
+  constexpr double eps = ex::epsilon;
+  StarWalk w;
+  const double2 ps = load_site(g.points, i);
+  const int pred_s = pred[i];
+  const CellBox whole{0, 0, g.gx - 1, g.gy - 1};
+  int phase = nearest;
+  DeferReason reason = DeferReason::undecided;
+  // The edge searched, a->b (the nearest-neighbour search has a = b = s).
+  int ia = i, ib = i;
+  double2 pa = ps, pb = ps;
+  int best = -1;
+  double2 best_p = ps;
+  double best_d2 = 0.0;
+  // visited: cells done; target: the box being scanned (target minus visited, a row segment at
+  // a time: in row y, `part` 0 is left of the visited box or the whole row, 1 right of it).
+  CellBox visited{kNone, kNone, -kNone, -kNone};
+  // First box of the nearest-neighbour search: the site's cell and, on the uniform grid, its
+  // neighbours within half a cell (about 9 candidates on uniform inputs, as star.comp counted).
+  CellBox target = g.xb ? cells_of(g, ps.x, ps.y, ps.x, ps.y)
+                        : cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w,
+                                   ps.y + 0.5 * g.cell_h);
+  int y = target.y0 - 1, part = 1;
+  std::uint32_t slot = 0, slot_end = 0;
+  int pending = -1;
+  bool big_scan = false, narrow = false;
+  int v0 = -1, v = -1;
+  unsigned work = 0, predicates = 0;
+  SearchBounds bounds;
+
+  // The cells where a site better than `best` could lie, with `bounds` set to match.
+  auto region_of_best = [&]() {
+    CellBox region = whole;
+    if (phase == nearest) {
+      // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
+      // sqrt and of the box's corners, and underflow in d2, all covered).
+      const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
+      region = cells_of(g, ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach);
+      bounds.disc = true;
+      bounds.ox = ps.x;
+      bounds.oy = ps.y;
+      bounds.reach = reach;
+    } else {
+      CircleRegion r;
+      if (circle_region(pa, pb, best_p, &r)) {
+        region = cells_of(g, r.x_lo, r.y_lo, r.x_hi, r.y_hi);
+        bounds.disc = true;
+        bounds.ox = r.ox;
+        bounds.oy = r.oy;
+        bounds.reach = r.reach;
+      }
+    }
+    return region;
+  };
+
+  for (;;) {    // exact loop
+    for (;;) {  // search loop
+      for (;;) {  // scan loop
+        if (slot >= slot_end) {
+          if (++work > budget) break;
+          const bool in_rows = y >= visited.y0 && y <= visited.y1;
+          if (part == 0 && in_rows) {
+            part = 1;
+          } else {
+            part = 0;
+            ++y;
+          }
+          if (y > target.y1) break;
+          const bool rows = y >= visited.y0 && y <= visited.y1;
+          int x0 = (rows && part == 1) ? visited.x1 + 1 : target.x0;
+          int x1 = (rows && part == 0) ? visited.x0 - 1 : target.x1;
+          slot = slot_end = 0;
+          if (x0 <= x1 && (bounds.apex || bounds.disc)) clip_row(g, y, bounds, &x0, &x1);
+          if (x0 <= x1) {
+            const int c0 = y * g.gx + x0;
+            slot = load_cell_start(g.cell_start, c0);
+            slot_end = load_cell_start(g.cell_start, c0 + (x1 - x0) + 1);
+          }
+        }
+        for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+          ++work;
+          const int ip = static_cast<int>(slot);
+          const double2 p = load_site(g.points, ip);
+          const double dx = ex::sub(p.x, ps.x), dy = ex::sub(p.y, ps.y);
+          const double d2 = ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
+          const int o = ex::orient2d_filter(pa.x, pa.y, pb.x, pb.y, p.x, p.y);
+          const int ic = ex::incircle_filter(pa.x, pa.y, pb.x, pb.y, best_p.x, best_p.y, p.x, p.y);
+          // 0: reject, 1: better than the best, 2: the filters cannot tell. Squared distances
+          // carry a few ulps of relative error, and none that matters above 2^-960.
+          int verdict;
+          if (phase == nearest)
+            verdict = best < 0 ? 1
+                      : best_d2 < 0x1p-960 ? 2
+                      : d2 < best_d2 * (1.0 - 1e-12) ? 1
+                      : d2 > best_d2 * (1.0 + 1e-12) ? 0 : 2;
+          else
+            verdict = o == -1 ? 0 : o == ex::uncertain ? 2 : best < 0 ? 1 : ic == -1 ? 0 : ic;
+          predicates += phase != nearest ? 1u + (o == 1 && best >= 0) : 0u;
+          if (ip == ia || ip == ib || ip == best) verdict = 0;
+          const bool better = verdict == 1;
+          if (better) {
+            best = ip;
+            best_p = p;
+            best_d2 = d2;
+          }
+          // Leave to decide exactly, or, in a large box planned from a worse candidate's region,
+          // to narrow the rest of the scan to the better one's.
+          if (verdict == 2 || (better && big_scan)) {
+            pending = verdict == 2 ? ip : -1;
+            narrow = better;
+            break;
+          }
+          if (work > budget) break;
+        }
+        if (work > budget || pending >= 0) break;
+        if (narrow) {
+          // Cells outside both the visited box and the new region need no look, now or later
+          // (regions only shrink). Rows already scanned were scanned wider: no harm.
+          narrow = false;
+          const CellBox region = region_of_best();
+          const CellBox keep = visited.x0 > visited.x1
+                                   ? region
+                                   : CellBox{min(visited.x0, region.x0), min(visited.y0, region.y0),
+                                             max(visited.x1, region.x1), max(visited.y1, region.y1)};
+          target = {max(target.x0, keep.x0), max(target.y0, keep.y0), min(target.x1, keep.x1),
+                    min(target.y1, keep.y1)};
+          big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
+        }
+      }
+      if (work > budget || pending >= 0) break;
+
+      // The target box is scanned.
+      visited = target;
+      bool found = false;
+      if (best < 0) {
+        if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
+          reason = DeferReason::no_apex;
+          phase = deferred;
+          break;
+        }
+        const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
+        target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
+                  min(visited.y1 + grow_y, whole.y1)};
+      } else {
+        const CellBox region = region_of_best();
+        found = box_inside(region, visited);
+        {
+          // Towards the region, by at most half the visited box per side: nearer candidates
+          // come first and shrink the region (a far region is often a poor early candidate's).
+          const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
+          target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
+                    min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
+        }
+      }
+      y = target.y0 - 1;
+      part = 1;
+      slot = slot_end = 0;
+      big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
+      if (!found) continue;
+
+      // The search is over: best is the answer. The walk's next step, as in walk_star.
+      const int c = best;
+      if (phase == nearest) {
+        v0 = c;
+        row[0] = c;
+        w.ccw = 1;
+        v = c;
+        phase = ccw;
+      } else if (c == v0) {
+        if (phase == ccw) {
+          w.closed = true;
+          phase = done;
+        } else {
+          reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+          phase = deferred;
+        }
+      } else if (w.ccw + w.cw >= kStar) {
+        reason = DeferReason::full_row;
+        phase = deferred;
+      } else {
+        if (phase == ccw)
+          row[w.ccw++] = c;
+        else
+          row[kStar - 1 - w.cw++] = c;
+        v = c;
+      }
+      if (phase == ccw && pred_s == v) {
+        phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
+        v = v0;
+      }
+      if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
+      if (phase >= done) break;
+      // The next edge: s->v counter-clockwise, v->s clockwise.
+      const double2 pv = load_site(g.points, v);
+      ia = phase == ccw ? i : v;
+      ib = phase == ccw ? v : i;
+      pa = phase == ccw ? ps : pv;
+      pb = phase == ccw ? pv : ps;
+      best = -1;
+      best_p = ps;
+      visited = {kNone, kNone, -kNone, -kNone};
+      bounds.apex = true;
+      bounds.disc = false;
+      bounds.a = pa;
+      bounds.b = pb;
+      // First box: half-width |ab|_1 / 2 around the point |ab| / 2 left of the midpoint, a guess
+      // at where the empty circle lies (star.comp's; any box is correct).
+      const double bax = pb.x - pa.x, bay = pb.y - pa.y;
+      const double cx = 0.5 * (pa.x + pb.x) - 0.5 * bay, cy = 0.5 * (pa.y + pb.y) + 0.5 * bax;
+      const double r = 0.5 * (fabs(bax) + fabs(bay));
+      target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
+      y = target.y0 - 1;
+      big_scan = box_cells(target) > kBigScanCells;
+    }
+    if (work > budget) {
+      reason = DeferReason::undecided;
+      phase = deferred;
+    }
+    if (phase >= done) break;
+
+    // Decide the pending candidate exactly, then resume the scan after it.
+    const int ip = pending;
+    const double2 p = load_site(g.points, ip);
+    const int verdict = decide_exactly(phase == nearest, ps, pa, pb, best, best_p, ip, p);
+    if (verdict == 2) {
+      reason = DeferReason::undecided;
+      break;
+    }
+    if (verdict == 1) {
+      best = ip;
+      best_p = p;
+      best_d2 = dist2(ps, p);
+    }
+    slot = static_cast<std::uint32_t>(ip) + 1;
+    pending = -1;
+  }
+  w.predicates = predicates;
+  w.work = work;
+  w.ok = phase == done;
+  w.reason = w.ok ? DeferReason::none : reason;
+  return w;
+}
+
+/// How a per-site star's searches visit the grid: rings of cells around each edge (walk_star)
+/// or box scans (walk_star_boxes). Both find the same stars; EXPANSE_CUDA_SEARCH picks one on
+/// the device, for comparisons.
+enum class StarSearch { rings, boxes };
+
+/// Work (cells or row segments, plus sites, visited by one site's walk) past which a site
+/// defers to the seam stage: a runaway search holds its warp. A box scan's unit is cheaper than
+/// a ring's cell, and the hull-hugging sites of uniform inputs legitimately scan whole columns
+/// of the grid, edge after edge: counted at 10^6 uniform sites, the costliest takes 49,482 units
+/// (kuzmin: 184,906); 2^20 units hold one warp for milliseconds, not seconds.
+EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
+  return search == StarSearch::boxes ? 1u << 20 : 1u << 14;
+}
+
+template <StarSearch Search>
+EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+  if constexpr (Search == StarSearch::boxes)
+    return walk_star_boxes(g, pred, i, row, budget);
+  else
+    return walk_star(g, pred, i, row, budget);
+}
+
+}  // namespace expanse::detail::cuda
