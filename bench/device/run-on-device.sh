@@ -15,6 +15,10 @@
 #                                                  -> bench-cuda[-TAG].jsonl (log: bench.log)
 #   bench-vulkan expanse_vulkan_bench on NVIDIA's driver         -> bench-vulkan.jsonl
 #   experiments  bench/run.sh --full on CUDA and Vulkan           -> results/*.jsonl
+#   figures      the paper's experiments for docs/benchmarks.md within one device call:
+#                scaling 32^2..4096^2 on CUDA and Vulkan (our layout), the paper's layout and
+#                the CPU backend and CGAL up to 1024^2, threads per block up to 1024^2
+#                                                                -> results/{scaling,threads}.jsonl
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
 # EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
@@ -84,6 +88,22 @@ for what in "$@"; do
       step "bench/run.sh" 560 "$out/experiments.log" bash bench/run.sh --full --no-build \
         --build-dir .devrun/build --experiments "${EXPANSE_EXPERIMENTS:-scaling}" --gpu cuda,vulkan \
         --commit "$commit" --results "$out/results" --no-report --note "device run" ;;
+    figures)
+      mkdir -p "$out/results"
+      bench="$bin/expanse-bench"
+      common=(--note "device run" --warmup 1)
+      EXPANSE_COMMIT="$commit" step "scaling: GPU, our layout" 200 "$out/experiments.log" "$bench" \
+        --experiment scaling --backends cuda,vulkan --dist uniform,gaussian \
+        -n 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2 --layouts default -r 5 --max-seconds 8 \
+        "${common[@]}" -o "$out/results/scaling.jsonl"
+      EXPANSE_COMMIT="$commit" step "scaling: paper layout, CPU, CGAL" 130 "$out/experiments.log" "$bench" \
+        --experiment scaling --backends cpu,cgal,cuda,vulkan --dist uniform,gaussian \
+        -n 32^2,64^2,128^2,256^2,512^2,1024^2 --layouts paper -r 3 --max-seconds 5 \
+        "${common[@]}" -o "$out/results/scaling.jsonl"
+      EXPANSE_COMMIT="$commit" step "threads (Fig. IV.1)" 140 "$out/experiments.log" "$bench" \
+        --experiment threads --backends cuda,vulkan --dist uniform -n 256^2,512^2,1024^2 --layouts paper \
+        --threads 8,16,32,64,128,256,512,1024 -r 3 --max-seconds 3 \
+        "${common[@]}" -o "$out/results/threads.jsonl" ;;
     summary)
       python3 - "$out" <<'PY'
 import glob, json, os, sys
