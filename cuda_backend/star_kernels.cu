@@ -193,11 +193,11 @@ __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::u
 /// The host audit's checks (seam/adjacency_audit.cpp) where the adjacency is made, before it
 /// crosses the bus: every link leads to a triangle that holds the same edge the other way round
 /// and links back across it; a missing link must be a hull edge (pred[] is in local ids, the
-/// triangles in site ids). result[0] counts bad links, result[1] open edges inside the hull (the
-/// seam's, when sites deferred). Random reads of 805 MB take the host's cores ~300 ms at 4096^2;
-/// the device's memory, a few milliseconds.
+/// triangles in site ids) or the seam's. result[0] counts bad links, result[1] open edges inside
+/// the hull; with `open_keys`, those edges are also listed (x << 32 | y, result[2] counting).
+/// Random reads of 805 MB take the host's cores ~300 ms at 4096^2; the device's memory, 0.4 ms.
 __global__ void audit_kernel(const int* triangles, const int* neighbors, int count, const int* rank, const int* pred,
-                             unsigned int* result) {
+                             unsigned int* result, std::uint64_t* open_keys) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= count) return;
   unsigned bad = 0, open = 0;
@@ -206,7 +206,11 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
     const int y = triangles[3 * static_cast<std::size_t>(t) + (k + 2) % 3];
     const int u = neighbors[3 * static_cast<std::size_t>(t) + k];
     if (u == -1) {
-      open += pred[rank[y]] != rank[x];  // x->y on the hull: y's predecessor is x
+      if (pred[rank[y]] != rank[x]) {  // not x->y on the hull (y's predecessor is x)
+        ++open;
+        if (open_keys)
+          open_keys[atomicAdd(result + 2, 1u)] = (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
+      }
       continue;
     }
     if (u < 0 || u >= count) {
@@ -221,6 +225,23 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
   }
   if (bad) atomicAdd(result, bad);
   if (open) atomicAdd(result + 1, open);
+}
+
+/// The audit's second check: an edge marked open must have no triangle across it. Such a
+/// triangle would hold the reverse edge, and its link there could lead nowhere but back, so it
+/// would mark the reverse open too (seam/adjacency_audit.cpp): count open edges whose reverse
+/// is open as well (`sorted` holds every open edge, sorted).
+__global__ void open_pairs_kernel(const std::uint64_t* sorted, unsigned count, unsigned int* result) {
+  const unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const std::uint64_t reverse = (sorted[k] << 32) | (sorted[k] >> 32);
+  unsigned lo = 0, hi = count;
+  while (lo < hi) {
+    const unsigned mid = (lo + hi) / 2;
+    if (sorted[mid] < reverse) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo < count && sorted[lo] == reverse) atomicAdd(result + 3, 1u);
 }
 
 constexpr int kThreads = 256;
@@ -425,15 +446,40 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
                                                       d_neighbors.get());
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
+  // The audit, on the device. Open edges inside the hull (left by deferred sites) are rare:
+  // counted first, then listed, sorted and matched against their reverses.
+  bool audited = false;
   if (with_neighbors && triangle_count > 0) {
     timer.begin("audit");
-    EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 2 * sizeof(unsigned int), stream));
+    EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
     audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
         d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-        d_counters.get());
+        d_counters.get(), nullptr);
     EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaMemcpyAsync(&words[8], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                  stream));
+    EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    const unsigned bad = words[8], open = words[9];
+    audited = bad == 0 && open == 0;
+    if (bad == 0 && open > 0) {
+      DeviceArray<std::uint64_t> d_open(open, stream), d_open_sorted(open, stream);
+      audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
+          d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
+          d_counters.get(), d_open.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      std::size_t bytes = 0;
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, bytes, d_open.get(), d_open_sorted.get(),
+                                                  static_cast<int>(open), 0, 64, stream));
+      DeviceArray<unsigned char> d_sort_temp(bytes, stream);
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_sort_temp.get(), bytes, d_open.get(), d_open_sorted.get(),
+                                                  static_cast<int>(open), 0, 64, stream));
+      open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(d_open_sorted.get(), open, d_counters.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get() + 3, sizeof(unsigned int), cudaMemcpyDeviceToHost,
+                                   stream));
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+      audited = words[10] == 0;
+    }
     timer.end();
   }
 
@@ -447,11 +493,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   const auto host_done = clock::now();
 
   partial.deferred_expansions = sizes[1];
-  // The download synchronised the stream: the audit's words are in.
-  if (with_neighbors && triangle_count > 0) {
-    if (words[8] != 0) partial.neighbors.clear();  // untrusted: the pipeline derives them
-    result.adjacency_audited = words[8] == 0 && words[9] == 0;
-  }
+  if (with_neighbors && triangle_count > 0 && words[8] != 0) partial.neighbors.clear();  // the pipeline derives them
+  result.adjacency_audited = audited;
   RunCounters& counters = last_run_counters();
   counters = {};
   std::uint64_t predicates = 0;

@@ -364,12 +364,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
 enum class StarSearch { rings, boxes };
 
 /// Work (cells or row segments, plus sites, visited by one site's walk) past which a site
-/// defers to the seam stage: a runaway search holds its warp. A box scan's unit is cheaper than
-/// a ring's cell, and the hull-hugging sites of uniform inputs legitimately scan whole columns
-/// of the grid, edge after edge: counted at 10^6 uniform sites, the costliest takes 49,482 units
-/// (kuzmin: 184,906); 2^20 units hold one warp for milliseconds, not seconds.
+/// defers to the seam stage. A box scan's unit is cheaper than a ring's cell, and the
+/// hull-hugging sites of uniform inputs legitimately scan whole columns of the grid, edge after
+/// edge; but the kernel lasts as long as its costliest site, which grows faster than the grid:
+/// counted on uniform sites, 49,482 units at 10^6, 397,425 at 4 * 10^6, over 2^20 for one
+/// 4096^2 set on the H100 (star kernel 487 ms there, against 231 ms for another seed). 2^16
+/// defers none of 10^6 uniform sites and a handful beyond; the seam stage makes their triangles.
 EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
-  return search == StarSearch::boxes ? 1u << 20 : 1u << 14;
+  return search == StarSearch::boxes ? 1u << 16 : 1u << 14;
 }
 
 template <StarSearch Search>

@@ -266,6 +266,13 @@ int main(int argc, char** argv) {
     full_pipeline_case("uniform", generate_points("uniform", 20000, 5), options);
     full_pipeline_case("grid", generate_points("grid", 10000, 5), options);
     full_pipeline_case("circle", generate_points("circle", 2000, 5), options);
+    // Some sites deferred: the device audit must list the seam's open edges, find none open
+    // from both sides, and the seam stage then completes the mesh on the device's adjacency.
+    setenv("EXPANSE_CUDA_BUDGET", "150", 1);
+    Options with_neighbors = options;
+    with_neighbors.neighbors = true;
+    full_pipeline_case("uniform, work budget 150", generate_points("uniform", 20000, 6), with_neighbors);
+    unsetenv("EXPANSE_CUDA_BUDGET");
     // Interop: points already on the device, work on the caller's stream.
     try {
       auto points = generate_points("uniform", 5000, 9);

@@ -25,9 +25,9 @@ struct GrowResult {
   std::size_t iterations = 0;
   std::vector<StageTime> device_stages;  ///< device-timed stages (timestamps / events)
   std::vector<StageTime> host_stages;    ///< host-side stages inside the backend (upload, ...)
-  /// The backend ran adjacency_is_trustworthy's checks where it made the adjacency and found it
-  /// consistent and complete (every edge linked, or a hull edge): the pipeline's host audit is
-  /// then skipped.
+  /// The backend ran adjacency_is_trustworthy's checks where it made the adjacency and they
+  /// passed (every link reciprocal; no open edge with a triangle across it): the pipeline's host
+  /// audit is then skipped.
   bool adjacency_audited = false;
 };
 
