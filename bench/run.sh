@@ -164,7 +164,7 @@ else
     -n "$(sizes 32^2,64^2,128^2,256^2,512^2,1024^2,2048^2,4096^2)" --layouts default,paper --warmup 1 -r 5 \
     --max-seconds 30
   # Counts, not times: any machine gives the same numbers.
-  has star_work && count_star_work --dist uniform,gaussian,kuzmin,grid --n "$(sizes 1e6,4e6)"
+  has star_work && count_star_work --dist uniform,gaussian,kuzmin,grid --n "$(sizes 1e6,4e6)" --search boxes,rings
   # Only device backends: the CPU backend's picture would be all seam.
   has pictures && [[ -n "$gpu" ]] && run pictures --backends "$gpu" --dist "$dists" \
     -n "$(sizes 32^2)" --layouts paper,default --warmup 0 -r 1 --pictures "$results/pictures"
