@@ -37,7 +37,8 @@ struct Threads {
   ~Threads() { set_host_threads(0); }
 };
 
-// prepare_sites as it was written sequentially: scale, stable sort by Morton code, merge runs.
+// prepare_sites as it was written sequentially: scale, stable sort by Morton code (and by (x, y)
+// among equal codes), merge runs of equal points.
 void check_against_sequential(const std::vector<Point2>& input, const SiteSet& sites) {
   const std::size_t n = input.size();
   std::vector<Point2> scaled(n);
@@ -57,7 +58,11 @@ void check_against_sequential(const std::vector<Point2>& input, const SiteSet& s
   for (std::size_t i = 0; i < n; ++i) codes[i] = morton_code(quantiser.x(scaled[i].x), quantiser.y(scaled[i].y));
   std::vector<std::int32_t> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) { return codes[a] < codes[b]; });
+  // By code, then (x, y) within a code: equal points side by side, in input order.
+  std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    if (codes[a] != codes[b]) return codes[a] < codes[b];
+    return scaled[a].x < scaled[b].x || (scaled[a].x == scaled[b].x && scaled[a].y < scaled[b].y);
+  });
   std::vector<Point2> points;
   std::vector<std::int32_t> input_index, representative(n);
   std::size_t run_start = 0;
