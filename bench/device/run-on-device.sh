@@ -13,8 +13,6 @@
 #                                                                -> sanitizer.log
 #   bench-cuda   expanse_bench_cuda 512^2 .. 4096^2 x 4 distributions
 #                                                  -> bench-cuda[-TAG].jsonl (log: bench.log)
-#   bench-vulkan expanse_vulkan_bench on NVIDIA's driver         -> bench-vulkan.jsonl
-#   experiments  bench/run.sh --full on CUDA and Vulkan           -> results/*.jsonl
 #   figures      the paper's experiments for docs/benchmarks.md within one device call:
 #                scaling 32^2..4096^2 on CUDA and Vulkan (our layout), the paper's layout and
 #                the CPU backend and CGAL up to 1024^2, threads per block up to 1024^2
@@ -74,20 +72,6 @@ for what in "$@"; do
         --sizes ${EXPANSE_BENCH_SIZES:-512,1024,2048,4096} \
         --dists ${EXPANSE_BENCH_DISTS:-uniform,gaussian,grid,kuzmin} \
         --reps ${EXPANSE_BENCH_REPS:-5} > $out/bench-cuda$tag.jsonl" ;;
-    bench-vulkan)
-      for n in 262144 1048576 4194304 16777216; do
-        for dist in uniform gaussian; do
-          step "vulkan $dist $n" 120 "$out/bench.log" sh -c \
-            "$bin/expanse_vulkan_bench $n $dist per-site 4 >> $out/bench-vulkan.jsonl"
-        done
-      done ;;
-    experiments)
-      # run.sh looks for its programs in BUILD/bench/.
-      mkdir -p .devrun/build/bench
-      cp -f "$bin"/expanse-bench* .devrun/build/bench/
-      step "bench/run.sh" 560 "$out/experiments.log" bash bench/run.sh --full --no-build \
-        --build-dir .devrun/build --experiments "${EXPANSE_EXPERIMENTS:-scaling}" --gpu cuda,vulkan \
-        --commit "$commit" --results "$out/results" --no-report --note "device run" ;;
     figures)
       mkdir -p "$out/results"
       bench="$bin/expanse-bench"
