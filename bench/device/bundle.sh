@@ -17,7 +17,6 @@ mkdir -p .devrun
   "$build/tests/expanse_conformance" \
   "$build/tests/cuda/expanse_cuda_tests" \
   "$build/cuda_backend/expanse_bench_cuda" \
-  "$build/tests/vulkan/expanse_vulkan_bench" \
   "$build/bench/expanse-bench" \
   "$build/bench/expanse-bench-host-stages" >/dev/null
 layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
