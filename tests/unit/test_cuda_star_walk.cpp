@@ -5,9 +5,12 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <random>
 #include <set>
 #include <string>
 
+#include "predicates/predicates.hpp"
 #include "star_host.hpp"
 #include "support/cgal_oracle.hpp"
 #include "support/test_points.hpp"
@@ -127,5 +130,76 @@ TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overfl
     // site here is a hull-hugging one whose thin, tall regions span some 60 rows per search.
     CHECK(totals.max_work < (search == cuda::StarSearch::rings ? 2000u : 8000u));
     CHECK(totals.deferred == 0);
+  }
+}
+
+TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of the region", "[cuda][star]") {
+  // clip_row prunes rows with floating-point margins; a site it wrongly cut away could be a
+  // better apex the search never sees. Random edges, candidates and sites, on a uniform and a
+  // quantile grid of 64 x 64 cells: every site strictly left of a->b (exact orientation) and
+  // inside the disc holding the candidate's region must lie in its row's cut segment.
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  constexpr int cells = 64;
+  std::vector<double> bounds_x(cells + 1), bounds_y(cells + 1);
+  for (int j = 0; j <= cells; ++j) {  // uneven columns and rows, as quantiles of a cluster give
+    const double t = double(j) / cells;
+    bounds_x[j] = t * t;
+    bounds_y[j] = std::sqrt(t);
+  }
+  for (const bool quantile : {false, true}) {
+    cuda::GridView g{};
+    g.min_x = g.min_y = 0.0;
+    g.max_x = g.max_y = 1.0;
+    g.gx = g.gy = cells;
+    g.inv_w = g.inv_h = cells;
+    g.cell_w = g.cell_h = 1.0 / cells;
+    if (quantile) {
+      g.xb = bounds_x.data();
+      g.yb = bounds_y.data();
+    }
+    std::size_t checked = 0, missed = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+      // Short edges, like a star's, and long ones, like a hull-hugging site's.
+      const double2 a = make_double2(unit(random), unit(random));
+      const double scale = trial % 2 ? 0.02 : 0.8;
+      const double2 b = make_double2(std::clamp(a.x + scale * (unit(random) - 0.5), 0.0, 1.0),
+                                     std::clamp(a.y + scale * (unit(random) - 0.5), 0.0, 1.0));
+      const double2 c = make_double2(unit(random), unit(random));
+      if (orient2d({a.x, a.y}, {b.x, b.y}, {c.x, c.y}) <= 0) continue;
+      cuda::CircleRegion region;
+      if (!cuda::circle_region(a, b, c, &region)) continue;
+      cuda::SearchBounds bounds;
+      bounds.apex = true;
+      bounds.a = a;
+      bounds.b = b;
+      bounds.disc = trial % 3 != 0;  // also the half-plane alone, as before a first candidate
+      bounds.ox = region.ox;
+      bounds.oy = region.oy;
+      bounds.reach = region.reach;
+      for (int k = 0; k < 200; ++k) {
+        // Sites near the edge's line and near the circle, where the margins matter.
+        const double s = unit(random);
+        double px = a.x + s * (b.x - a.x) + 1e-9 * (unit(random) - 0.5);
+        double py = a.y + s * (b.y - a.y) + 1e-9 * (unit(random) - 0.5);
+        if (k % 2) {
+          const double angle = 6.283185307179586 * unit(random);
+          px = region.ox + region.reach * std::cos(angle) * (1.0 - 1e-12);
+          py = region.oy + region.reach * std::sin(angle) * (1.0 - 1e-12);
+        }
+        if (!(px >= 0.0 && px <= 1.0 && py >= 0.0 && py <= 1.0)) continue;
+        if (orient2d({a.x, a.y}, {b.x, b.y}, {px, py}) <= 0) continue;
+        const long double dx = (long double)px - region.ox, dy = (long double)py - region.oy;
+        if (bounds.disc && dx * dx + dy * dy > (long double)region.reach * region.reach) continue;
+        const int x = g.cell_x(px), y = g.cell_y(py);
+        int x0 = 0, x1 = cells - 1;
+        cuda::clip_row(g, y, bounds, &x0, &x1);
+        ++checked;
+        missed += !(x0 <= x && x <= x1);
+      }
+    }
+    INFO((quantile ? "quantile" : "uniform") << " grid: " << checked << " sites checked");
+    CHECK(checked > 50000);
+    CHECK(missed == 0);
   }
 }
