@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <numeric>
-#include <utility>
 
 namespace expanse::detail {
 
@@ -107,14 +106,7 @@ void sort_large(const Sides& s, const Range& r, std::size_t large, std::vector<R
     std::uint32_t* mine = count.data() + c * radix;
     for (std::size_t i = r.begin + begin; i < r.begin + end; ++i) ++mine[(codes[i] >> shift) & (radix - 1)];
   });
-  // Bucket d starts after every smaller digit; within it, chunk c after chunks < c.
-  std::vector<std::size_t> bucket_start(radix + 1, 0);
-  std::size_t sum = 0;
-  for (std::size_t d = 0; d < radix; ++d) {
-    bucket_start[d] = sum;
-    for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(count[c * radix + d], static_cast<std::uint32_t>(sum));
-  }
-  bucket_start[radix] = sum;
+  const std::vector<std::size_t> bucket_start = distribution_slots(count, chunks, radix);
   for (std::size_t d = 0; d < radix; ++d) {
     if (bucket_start[d + 1] - bucket_start[d] == m) {  // one digit: nothing moves
       sort_large(s, {r.begin, r.end, r.side, shift}, large, tasks);

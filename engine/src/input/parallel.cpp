@@ -5,6 +5,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -137,6 +138,18 @@ void parallel_tasks(std::size_t count, void (*task)(void*, std::size_t), void* c
     }
   }
   if (first) std::rethrow_exception(first);
+}
+
+std::vector<std::size_t> distribution_slots(std::vector<std::uint32_t>& counts, std::size_t chunks,
+                                            std::size_t buckets) {
+  std::vector<std::size_t> start(buckets + 1, 0);
+  std::size_t sum = 0;
+  for (std::size_t d = 0; d < buckets; ++d) {
+    start[d] = sum;
+    for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(counts[c * buckets + d], static_cast<std::uint32_t>(sum));
+  }
+  start[buckets] = sum;
+  return start;
 }
 
 void advise_huge_pages(void* begin, std::size_t bytes) {

@@ -89,6 +89,13 @@ bool operator==(const UninitializedAllocator<T>&, const UninitializedAllocator<U
 template <class T>
 using HostVector = std::vector<T, UninitializedAllocator<T>>;
 
+/// The prefix sum of a stable parallel distribution. counts[c * buckets + d] holds how many of
+/// chunk c's elements go to bucket d; on return it holds the first slot chunk c writes in bucket
+/// d (buckets in order, and within a bucket the chunks in order). Returns where each bucket
+/// starts, with the total last (buckets + 1 entries).
+std::vector<std::size_t> distribution_slots(std::vector<std::uint32_t>& counts, std::size_t chunks,
+                                            std::size_t buckets);
+
 /// Asks the kernel for transparent huge pages over [begin, begin + bytes) where it leaves that
 /// to the program (THP "madvise" mode): a 2 MiB page is one fault instead of 512. A hint only.
 void advise_huge_pages(void* begin, std::size_t bytes);

@@ -121,15 +121,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     std::uint32_t* mine = next.data() + chunk * buckets;
     for (std::size_t i = begin; i < end; ++i) ++mine[code_of(scaled(input[i])) >> below];
   });
-  std::vector<std::size_t> bucket_start(buckets + 1, 0);
-  {
-    std::size_t sum = 0;
-    for (std::size_t d = 0; d < buckets; ++d) {
-      bucket_start[d] = sum;
-      for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(next[c * buckets + d], static_cast<std::uint32_t>(sum));
-    }
-    bucket_start[buckets] = sum;
-  }
+  const std::vector<std::size_t> bucket_start = distribution_slots(next, chunks, buckets);
   sites.points.resize(n);
   sites.input_index.resize(n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {

@@ -1,7 +1,6 @@
 #include "seam/seam_completion.hpp"
 
 #include <algorithm>
-#include <utility>
 #include <string>
 
 #include "expanse/error.hpp"
@@ -133,13 +132,7 @@ std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Tria
       for (const std::int32_t v : triangles[t]) ++mine[static_cast<std::uint32_t>(v) >> block_bits];
     }
   });
-  std::vector<std::size_t> block_start(blocks + 1, 0);
-  std::size_t sum = 0;
-  for (std::size_t b = 0; b < blocks; ++b) {
-    block_start[b] = sum;
-    for (std::size_t c = 0; c < chunks; ++c) sum += std::exchange(next[c * blocks + b], static_cast<std::uint32_t>(sum));
-  }
-  block_start[blocks] = sum;
+  const std::vector<std::size_t> block_start = distribution_slots(next, chunks, blocks);
   HostVector<std::int32_t> corners(3 * count);
   parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * blocks;

@@ -187,9 +187,23 @@ class VulkanBackend final : public Backend {
   }
 
  private:
-  struct Sorted {
+  /// A cells x cells grid over the sites' bounding box (cell_coord's origin and scale).
+  struct GridFrame {
     int cells = 0;
     double origin[2]{}, inv_width[2]{};
+
+    GridFrame() = default;
+    GridFrame(const SiteSet& sites, int cells_per_side) : cells(cells_per_side) {
+      origin[0] = sites.bounds.min_x;
+      origin[1] = sites.bounds.min_y;
+      const double wx = sites.bounds.max_x - sites.bounds.min_x;
+      const double wy = sites.bounds.max_y - sites.bounds.min_y;
+      inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
+      inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+    }
+  };
+
+  struct Sorted : GridFrame {
     std::vector<Point2> points;            // sites sorted by cell (row-major)
     std::vector<std::int32_t> to_site;     // sorted id -> SiteSet id
     std::vector<std::int32_t> predecessor; // in sorted ids
@@ -201,13 +215,7 @@ class VulkanBackend final : public Backend {
     const SiteSet& sites = input.sites;
     const std::size_t n = std::size_t(sites.size());
     Sorted s;
-    s.cells = cells;
-    s.origin[0] = sites.bounds.min_x;
-    s.origin[1] = sites.bounds.min_y;
-    const double wx = sites.bounds.max_x - sites.bounds.min_x;
-    const double wy = sites.bounds.max_y - sites.bounds.min_y;
-    s.inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
-    s.inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+    static_cast<GridFrame&>(s) = GridFrame(sites, cells);
     std::vector<std::int32_t> cell(n);
     s.cell_start.assign(std::size_t(cells) * std::size_t(cells) + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
@@ -279,9 +287,7 @@ class VulkanBackend final : public Backend {
   // `predecessor` (mapped memory: the device's own on unified-memory devices, else staging).
   // A counting sort in O(n + cells), its passes split over the host threads; sites keep their
   // SiteSet order within a cell, so the result does not depend on the thread count.
-  struct StarGrid {
-    int cells = 0;
-    double origin[2]{}, inv_width[2]{};
+  struct StarGrid : GridFrame {
     std::vector<std::int32_t> to_site;  // sorted id -> SiteSet id
   };
 
@@ -290,13 +296,7 @@ class VulkanBackend final : public Backend {
     const SiteSet& sites = input.sites;
     const std::size_t n = std::size_t(sites.size());
     StarGrid g;
-    g.cells = cells;
-    g.origin[0] = sites.bounds.min_x;
-    g.origin[1] = sites.bounds.min_y;
-    const double wx = sites.bounds.max_x - sites.bounds.min_x;
-    const double wy = sites.bounds.max_y - sites.bounds.min_y;
-    g.inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
-    g.inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+    static_cast<GridFrame&>(g) = GridFrame(sites, cells);
     const std::size_t cell_count = std::size_t(cells) * std::size_t(cells);
     // Each worker counts into its own array of all cells: at most 2^24 counts in all (64 MB).
     const unsigned workers = unsigned(std::clamp<std::size_t>(
