@@ -370,6 +370,73 @@ EXPANSE_HD inline int incircle_filter(double ax, double ay, double bx, double by
   return trusted ? sign : uncertain;
 }
 
+// ---- Filters for a search: one edge, one best apex, many candidates -------------------------
+//
+// An apex search tests many candidates d against a fixed edge a->b and its best apex so far c.
+// With coordinates relative to a (b' = b - a, d' = d - a, rounded), the circle through a, b and
+// d has its centre at b'/2 + t n, n = (-b'y, b'x), where
+//     t = num / (2 den),   num = |d'|^2 - b'.d',   den = b' x d' (= orient2d(a, b, d)),
+// and d lies inside circle(a, b, c) exactly when its t is the smaller one. Expanded, that is
+//     incircle(a, b, c, d) = den_d num_c - num_d den_c,
+// an identity of polynomials. So each candidate forms its own ApexKey (num, den and their
+// magnitudes) once, the orient test reads its den, and the incircle test against the best apex
+// costs two products: about a third of incircle_filter's operations, and making a candidate the
+// best apex is a copy of its key.
+//
+// Error bound. Each of the (uncombined) degree-4 monomials of den_d num_c - num_d den_c goes
+// through at most 11 roundings (in num: the coordinates' differences 2, the product 1, the two
+// sums 2; in den: the differences 2, the product 1, the difference 1; their product 1, the final
+// difference 1), so the computed value is off by at most gamma_11 = 11u / (1 - 11u) times the
+// sum of the monomials' magnitudes, which the permanent den_abs_d num_abs_c + num_abs_d den_abs_c
+// computes to within a factor 1 - gamma_11. 16u covers both, with room for the bound's own
+// rounding. Underflow and flushed subnormals: a product that leaves the normal range loses at
+// most 2^-1022, and one evaluation's losses stay below 2^-1019 spread_c spread_d (spread = 1 +
+// num_abs + den_abs); the test answers only where that is below 2^-119 times the permanent
+// (spread_c spread_d 2^-900 <= permanent), which the 5u of slack covers. The GLSL transcription
+// (shaders/include/predicates.glsl) relies on this on devices that flush subnormals.
+
+inline constexpr double incircle_keys_bound = 16.0 * epsilon;
+
+/// A candidate d of the apex search of edge a->b, from b' = b - a and d' = d - a (rounded).
+struct ApexKey {
+  double lift = 0.0;     ///< |d'|^2 (the squared distance to a)
+  double num = 0.0;      ///< |d'|^2 - b'.d'
+  double den = 0.0;      ///< b' x d'
+  double num_abs = 0.0;  ///< |d'|^2 + |b'x d'x| + |b'y d'y|
+  double den_abs = 0.0;  ///< |b'x d'y| + |b'y d'x|
+  double spread = 1.0;   ///< 1 + num_abs + den_abs
+};
+
+EXPANSE_HD inline ApexKey apex_key(double bx, double by, double dx, double dy) {
+  ApexKey k;
+  k.lift = add(mul(dx, dx), mul(dy, dy));
+  const double bxdx = mul(bx, dx), bydy = mul(by, dy);
+  k.num = sub(k.lift, add(bxdx, bydy));
+  const double left = mul(bx, dy), right = mul(by, dx);
+  k.den = sub(left, right);
+  k.num_abs = add(k.lift, add(magnitude(bxdx), magnitude(bydy)));
+  k.den_abs = add(magnitude(left), magnitude(right));
+  k.spread = add(add(k.num_abs, k.den_abs), 1.0);
+  return k;
+}
+
+/// Sign of orient2d(a, b, d), or `uncertain`: orient2d_filter's arithmetic and bound, translated
+/// to a. Trusted where two products' losses (2^-1021 with flushed subnormals) fit in the bound's
+/// widening.
+EXPANSE_HD inline int orient_of_key(const ApexKey& d) {
+  const int sign = sign_beyond(d.den, mul(orient2d_filter_bound, d.den_abs));
+  return d.den_abs >= 0x1p-900 ? sign : uncertain;
+}
+
+/// Sign of incircle(a, b, c, d), or `uncertain`, from the keys of c and d.
+EXPANSE_HD inline int incircle_of_keys(const ApexKey& c, const ApexKey& d) {
+  const double det = sub(mul(d.den, c.num), mul(d.num, c.den));
+  const double permanent = add(mul(d.den_abs, c.num_abs), mul(d.num_abs, c.den_abs));
+  const bool trusted = mul(mul(c.spread, d.spread), 0x1p-900) <= permanent;
+  const int sign = sign_beyond(det, mul(incircle_keys_bound, permanent));
+  return trusted ? sign : uncertain;
+}
+
 /// True when every nonzero |coordinate| lies in [2^-200, 2^200]. Then every value the exact
 /// routines form (degree <= 4 in the coordinates) is a multiple of 2^-1008 and below 2^820, so
 /// nothing under- or overflows and the expansions are exact. Outside this range use rationals.
