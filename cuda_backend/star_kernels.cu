@@ -75,28 +75,35 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, do
 }
 
 /// Which pass of the star walks a site is in. Most sites finish within a small budget; the few
-/// that run past it (hull-hugging and sparse-region sites whose searches span whole columns of
-/// the grid) hold their warps, and so their blocks' multiprocessor slots, long after the rest
-/// are done (ncu, 1024^2 uniform: multiprocessors active 33% of the kernel's time). Optionally
-/// (EXPANSE_CUDA_FIRST_BUDGET) a first pass lists them, and a second walks them again with the
-/// full budget.
+/// that run past it (hull-hugging and sparse-region sites whose searches span long rows of
+/// cells) would hold their warps, and so their blocks' multiprocessor slots, long after the rest
+/// are done (ncu, 1024^2 uniform, one pass: multiprocessors active 33% of the kernel's time).
+/// So a first pass with a small budget lists them, and a second walks each again with a whole
+/// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
-template <StarSearch Search>
+template <StarSearch Search, Walker By = Walker::thread>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
-  const StarWalk w = walk_star_by<Search>(g, pred, i, row, budget);
+  StarWalk w;
+  if constexpr (By == Walker::warp)
+    w = walk_star_boxes<Walker::warp>(g, pred, i, row, budget);
+  else
+    w = walk_star_by<Search>(g, pred, i, row, budget);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
-  // the deferred count is rare.
+  // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
   const unsigned active = __activemask();
   const unsigned warp_total = __reduce_add_sync(active, predicates);
   const unsigned warp_max = __reduce_max_sync(active, cells);
   if ((threadIdx.x & 31) == __ffs(active) - 1) {
     atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
     atomicMax(counters + 4, warp_max);
+  }
+  if constexpr (By == Walker::warp) {
+    if ((threadIdx.x & 31) != 0) return;  // the rest is one site's, done once
   }
   if (pass != WalkPass::retry && cells > 4096) atomicAdd(counters + 5, 1u);
   if (!w.ok) {
@@ -128,20 +135,22 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   walk_and_record<Search>(g, pred, i, star, info, owned, counters, budget, pass, retry_list);
 }
 
-/// The second pass: the sites the first listed (counters[7] of them), with the full budget, one
-/// site per warp. Packed 32 to a warp they ran 2.7x slower than the single pass (H100, uniform
-/// 4096^2: 623 against 233 ms): their divergent searches serialise, so a warp of heavy sites
-/// takes about the sum of their work rather than the most.
+/// The second pass: the sites the first listed (counters[7] of them), with the full budget, each
+/// walked by a whole warp. Measured on the H100 (2026-11-23, uniform 4096^2): packed 32 sites to
+/// a warp the second pass ran 2.7x slower than a single pass (623 against 233 ms), their
+/// divergent searches serialised; one site per warp on one thread still lost (285 against 228
+/// ms), a heavy site's walk being a chain of dependent loads that one thread runs at ~1 us per
+/// candidate.
 template <StarSearch Search, int MinBlocks>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
                                                                     const int* retry_list) {
-  if ((threadIdx.x & 31) != 0) return;
   const unsigned count = counters[7];
   const unsigned warps = gridDim.x * (blockDim.x / 32);
   for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < count; k += warps)
-    walk_and_record<Search>(g, pred, retry_list[k], star, info, owned, counters, budget, WalkPass::retry, nullptr);
+    walk_and_record<Search, Walker::warp>(g, pred, retry_list[k], star, info, owned, counters, budget,
+                                          WalkPass::retry, nullptr);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -245,6 +254,12 @@ __global__ void open_pairs_kernel(const std::uint64_t* sorted, unsigned count, u
 }
 
 constexpr int kThreads = 256;
+
+/// The first pass's work budget (WalkPass). The single pass's time fell with the budget as the
+/// heavy sites' tail shrank (H100, 2026-11-23, 4096^2 uniform star kernel: 167 ms at 2^16, 133
+/// at 2^15, 120 at 2^14, 106 at 2^12), and what the first pass leaves, the warps of the second
+/// walk 32 candidates at a time.
+constexpr unsigned kFirstPassBudget = 1u << 12;
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
 }  // namespace
@@ -369,12 +384,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   // 237 at 4 and 304 at 2; kuzmin 634 against 680 and 866).
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
   const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : 8;
-  // EXPANSE_CUDA_FIRST_BUDGET=B walks the sites in two passes (WalkPass), the first with budget
-  // B. Measured on the H100 (2026-11-23, 4096^2, star kernel): with B = 4096, kuzmin 406 ms
-  // against 629 in one pass, but uniform 285 against 228 (the second pass runs the costliest
-  // site after the rest instead of beside it). One pass is the default.
+  // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
+  // kFirstPassBudget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
-  const unsigned first_budget = rings || !first_env ? 0u : static_cast<unsigned>(std::strtoul(first_env, nullptr, 10));
+  const unsigned first_budget =
+      rings ? 0u : first_env ? static_cast<unsigned>(std::strtoul(first_env, nullptr, 10)) : kFirstPassBudget;
   const bool two_passes = first_budget > 0 && first_budget < budget;
   // EXPANSE_CUDA_ORDER=morton runs the threads in the sites' Morton order (prepare_sites sorts
   // them so; rank maps a site to its local id) instead of cell order.

@@ -113,7 +113,24 @@ EXPANSE_DEVICE_NOINLINE int decide_exactly(bool nearest, double2 ps, double2 pa,
   return sign == kUncertain ? 2 : sign > 0 ? 1 : 0;
 }
 
+/// Who walks one site's star: a thread alone, or the 32 threads of a warp together, each testing
+/// one of 32 consecutive candidates (CUDA only). A warp's walk is the thread's walk, decision for
+/// decision: the candidates are still taken in order, the first that the filters flag (a better
+/// one, or one they cannot decide) is dealt with as the thread would, and the scan resumes right
+/// after it against the new best. So both make the same star, count the same work and defer the
+/// same sites; a warp just gets through long rows of cells 32 candidates at a time.
+enum class Walker { thread, warp };
+
+template <Walker By = Walker::thread>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+#if !defined(__CUDACC__)
+  static_assert(By == Walker::thread, "a warp walks only on the device");
+#endif
+  // In a warp every thread holds the same walk state; one of them writes the star.
+  bool writer = true;
+#if defined(__CUDACC__)
+  if constexpr (By == Walker::warp) writer = (threadIdx.x & 31) == 0;
+#endif
   enum Phase : int { nearest, ccw, cw, done, deferred };
   constexpr int kNone = 1 << 29;
   constexpr double eps = ex::epsilon;
@@ -170,64 +187,204 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     return region;
   };
 
+  // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
+  // box minus the visited one, cut to `bounds`: sites [*first, *last).
+  auto segment_of = [&](int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
+    const bool rows = row_y >= visited.y0 && row_y <= visited.y1;
+    int x0 = (rows && row_part == 1) ? visited.x1 + 1 : target.x0;
+    int x1 = (rows && row_part == 0) ? visited.x0 - 1 : target.x1;
+    *first = *last = 0;
+    if (x0 <= x1 && (bounds.apex || bounds.disc)) clip_row(g, row_y, bounds, &x0, &x1);
+    if (x0 <= x1) {
+      const int c0 = row_y * g.gx + x0;
+      *first = load_cell_start(g.cell_start, c0);
+      *last = load_cell_start(g.cell_start, c0 + (x1 - x0) + 1);
+    }
+  };
+  // Candidate ip's verdict against the best: 0 reject, 1 better than the best, 2 the
+  // filters cannot tell. Straight-line: no branch that differs by search phase.
+  auto judge = [&](int ip, double2& p, double& d2) {
+    p = load_site(g.points, ip);
+    const double dx = ex::sub(p.x, ps.x), dy = ex::sub(p.y, ps.y);
+    d2 = ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
+    const int o = ex::orient2d_filter(pa.x, pa.y, pb.x, pb.y, p.x, p.y);
+    const int ic = ex::incircle_filter(pa.x, pa.y, pb.x, pb.y, best_p.x, best_p.y, p.x, p.y);
+    // Squared distances carry a few ulps of relative error, and none that matters above
+    // 2^-960.
+    int verdict;
+    if (phase == nearest)
+      verdict = best < 0 ? 1
+                : best_d2 < 0x1p-960 ? 2
+                : d2 < best_d2 * (1.0 - 1e-12) ? 1
+                : d2 > best_d2 * (1.0 + 1e-12) ? 0 : 2;
+    else
+      verdict = o == -1 ? 0 : o == ex::uncertain ? 2 : best < 0 ? 1 : ic == -1 ? 0 : ic;
+    predicates += phase != nearest ? 1u + (o == 1 && best >= 0) : 0u;
+    if (ip == ia || ip == ib || ip == best) verdict = 0;
+    return verdict;
+  };
+  // What the thread does with a flagged candidate: take it if better, and leave the
+  // candidate loop to decide it exactly or, in a large box planned from a worse
+  // candidate's region, to narrow the rest of the scan to the better one's.
+  auto take = [&](int ip, int verdict, double2 p, double d2) {
+    if (verdict == 1) {
+      best = ip;
+      best_p = p;
+      best_d2 = d2;
+    }
+    if (verdict == 2 || (verdict == 1 && big_scan)) {
+      pending = verdict == 2 ? ip : -1;
+      narrow = verdict == 1;
+      return true;
+    }
+    return false;
+  };
+#if defined(__CUDACC__)
+  // The warp's row fetch: lane k takes row y + 1 + k (up to 32 rows, not past the target box),
+  // both its parts, and the lanes then test the rows' candidates 32 at a time in the thread's
+  // order. The first flagged candidate leaves the walk where the thread would stand on meeting
+  // it (its row, part and slot, the work counted so far) and is taken as the thread would; with
+  // none, the walk stands after the last row.
+  auto scan_rows_together = [&]() {
+    const unsigned lane = threadIdx.x & 31;
+    const int count = min(32, target.y1 - y);
+    const int row_y = y + 1 + static_cast<int>(lane);
+    const bool mine = static_cast<int>(lane) < count;
+    const bool rows = row_y >= visited.y0 && row_y <= visited.y1;
+    std::uint32_t a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+    if (mine) {
+      segment_of(row_y, 0, &a0, &a1);
+      if (rows) segment_of(row_y, 1, &b0, &b1);
+    }
+    const unsigned steps = mine ? (rows ? 2u : 1u) : 0u;  // row setups, as the thread counts them
+    const unsigned len_a = a1 - a0, len = len_a + (b1 - b0);
+    unsigned ends = len, step_ends = steps;  // inclusive prefix sums over the lanes
+    for (int d = 1; d < 32; d <<= 1) {
+      const unsigned e = __shfl_up_sync(0xffffffffu, ends, d), t = __shfl_up_sync(0xffffffffu, step_ends, d);
+      if (static_cast<int>(lane) >= d) {
+        ends += e;
+        step_ends += t;
+      }
+    }
+    const unsigned total = __shfl_sync(0xffffffffu, ends, 31), total_steps = __shfl_sync(0xffffffffu, step_ends, 31);
+    for (unsigned base = 0; base < total; base += 32) {
+      const unsigned j = base + lane;
+      // The lane whose rows hold candidate j: the first whose inclusive end exceeds j.
+      int owner = 0;
+      for (int stride = 16; stride >= 1; stride >>= 1) {
+        const unsigned probe = __shfl_sync(0xffffffffu, ends, owner + stride - 1);
+        if (probe <= j) owner += stride;
+      }
+      owner = min(owner, 31);
+      const unsigned owner_end = __shfl_sync(0xffffffffu, ends, owner);
+      const unsigned owner_len = __shfl_sync(0xffffffffu, len, owner);
+      const unsigned owner_len_a = __shfl_sync(0xffffffffu, len_a, owner);
+      const std::uint32_t owner_a0 = __shfl_sync(0xffffffffu, a0, owner), owner_b0 = __shfl_sync(0xffffffffu, b0, owner);
+      const unsigned k = j - (owner_end - owner_len);
+      const std::uint32_t candidate = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
+      double2 p = best_p;
+      double d2 = 0.0;
+      const unsigned saved = predicates;
+      const int verdict = j < total ? judge(static_cast<int>(candidate), p, d2) : 0;
+      const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
+      const unsigned seen = flagged ? __ffs(flagged) : min(32u, total - base);
+      if (lane >= seen) predicates = saved;  // count what the thread would have tested
+      if (!flagged) continue;
+      // The thread would stand at the flagged candidate's row and part, having set up every
+      // segment before it and tested every candidate before it.
+      const int first = static_cast<int>(seen) - 1;
+      const int at_owner = __shfl_sync(0xffffffffu, owner, first);
+      const unsigned at_k = __shfl_sync(0xffffffffu, k, first);
+      const unsigned owner_steps_before = __shfl_sync(0xffffffffu, step_ends - steps, at_owner);
+      const unsigned at_len_a = __shfl_sync(0xffffffffu, len_a, at_owner);
+      const int at_part = at_k < at_len_a ? 0 : 1;
+      const std::uint32_t at_a1 = __shfl_sync(0xffffffffu, a1, at_owner), at_b1 = __shfl_sync(0xffffffffu, b1, at_owner);
+      work += owner_steps_before + static_cast<unsigned>(at_part + 1) + base + seen;
+      y = y + 1 + at_owner;
+      part = at_part;
+      const int ip = static_cast<int>(__shfl_sync(0xffffffffu, candidate, first));
+      slot_end = at_part == 0 ? at_a1 : at_b1;
+      slot = static_cast<std::uint32_t>(ip);
+      const int v = __shfl_sync(0xffffffffu, verdict, first);
+      const double2 q = make_double2(__shfl_sync(0xffffffffu, p.x, first), __shfl_sync(0xffffffffu, p.y, first));
+      const double q2 = __shfl_sync(0xffffffffu, d2, first);
+      if (!take(ip, v, q, q2)) ++slot;
+      return;
+    }
+    // None flagged: after the last row, as the thread would leave it.
+    work += total_steps + total;
+    y += count;
+    part = (y >= visited.y0 && y <= visited.y1) ? 1 : 0;
+    slot = slot_end = 0;
+  };
+#endif
   for (;;) {    // exact loop
     for (;;) {  // search loop
       for (;;) {  // scan loop
-        if (slot >= slot_end) {
-          if (++work > budget) break;
-          const bool in_rows = y >= visited.y0 && y <= visited.y1;
-          if (part == 0 && in_rows) {
-            part = 1;
-          } else {
-            part = 0;
-            ++y;
-          }
-          if (y > target.y1) break;
-          const bool rows = y >= visited.y0 && y <= visited.y1;
-          int x0 = (rows && part == 1) ? visited.x1 + 1 : target.x0;
-          int x1 = (rows && part == 0) ? visited.x0 - 1 : target.x1;
-          slot = slot_end = 0;
-          if (x0 <= x1 && (bounds.apex || bounds.disc)) clip_row(g, y, bounds, &x0, &x1);
-          if (x0 <= x1) {
-            const int c0 = y * g.gx + x0;
-            slot = load_cell_start(g.cell_start, c0);
-            slot_end = load_cell_start(g.cell_start, c0 + (x1 - x0) + 1);
+        bool batched = false;
+#if defined(__CUDACC__)
+        // A warp fetches the next rows' segments together (rows of a box are often a cell or
+        // two wide, too few candidates for 32 lanes one segment at a time).
+        if constexpr (By == Walker::warp) {
+          if (slot >= slot_end && !(part == 0 && y >= visited.y0 && y <= visited.y1) && y < target.y1) {
+            batched = true;
+            scan_rows_together();
           }
         }
-        for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-          ++work;
-          const int ip = static_cast<int>(slot);
-          const double2 p = load_site(g.points, ip);
-          const double dx = ex::sub(p.x, ps.x), dy = ex::sub(p.y, ps.y);
-          const double d2 = ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
-          const int o = ex::orient2d_filter(pa.x, pa.y, pb.x, pb.y, p.x, p.y);
-          const int ic = ex::incircle_filter(pa.x, pa.y, pb.x, pb.y, best_p.x, best_p.y, p.x, p.y);
-          // 0: reject, 1: better than the best, 2: the filters cannot tell. Squared distances
-          // carry a few ulps of relative error, and none that matters above 2^-960.
-          int verdict;
-          if (phase == nearest)
-            verdict = best < 0 ? 1
-                      : best_d2 < 0x1p-960 ? 2
-                      : d2 < best_d2 * (1.0 - 1e-12) ? 1
-                      : d2 > best_d2 * (1.0 + 1e-12) ? 0 : 2;
-          else
-            verdict = o == -1 ? 0 : o == ex::uncertain ? 2 : best < 0 ? 1 : ic == -1 ? 0 : ic;
-          predicates += phase != nearest ? 1u + (o == 1 && best >= 0) : 0u;
-          if (ip == ia || ip == ib || ip == best) verdict = 0;
-          const bool better = verdict == 1;
-          if (better) {
-            best = ip;
-            best_p = p;
-            best_d2 = d2;
+#endif
+        if (!batched) {
+          if (slot >= slot_end) {
+            if (++work > budget) break;
+            const bool in_rows = y >= visited.y0 && y <= visited.y1;
+            if (part == 0 && in_rows) {
+              part = 1;
+            } else {
+              part = 0;
+              ++y;
+            }
+            if (y > target.y1) break;
+            segment_of(y, part, &slot, &slot_end);
           }
-          // Leave to decide exactly, or, in a large box planned from a worse candidate's region,
-          // to narrow the rest of the scan to the better one's.
-          if (verdict == 2 || (better && big_scan)) {
-            pending = verdict == 2 ? ip : -1;
-            narrow = better;
-            break;
+          if constexpr (By == Walker::thread) {
+            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+              ++work;
+              double2 p;
+              double d2;
+              const int verdict = judge(static_cast<int>(slot), p, d2);
+              if (verdict != 0 && take(static_cast<int>(slot), verdict, p, d2)) break;
+              if (work > budget) break;
+            }
           }
-          if (work > budget) break;
+  #if defined(__CUDACC__)
+          if constexpr (By == Walker::warp) {
+            const unsigned lane = threadIdx.x & 31;
+            while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
+              const std::uint32_t mine = slot + lane;
+              double2 p = best_p;
+              double d2 = 0.0;
+              const unsigned saved = predicates;
+              const int verdict = mine < slot_end ? judge(static_cast<int>(mine), p, d2) : 0;
+              const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
+              const std::uint32_t seen = flagged ? __ffs(flagged) : min(32u, slot_end - slot);
+              if (lane >= seen) predicates = saved;  // count what the thread would have tested
+              work += seen;
+              if (!flagged) {
+                slot += seen;
+                if (work > budget) break;
+                continue;
+              }
+              const int first = static_cast<int>(seen) - 1;
+              const int ip = static_cast<int>(slot) + first;
+              const int v = __shfl_sync(0xffffffffu, verdict, first);
+              const double2 q = make_double2(__shfl_sync(0xffffffffu, p.x, first), __shfl_sync(0xffffffffu, p.y, first));
+              const double q2 = __shfl_sync(0xffffffffu, d2, first);
+              slot = static_cast<std::uint32_t>(ip);
+              if (take(ip, v, q, q2)) break;
+              ++slot;
+              if (work > budget) break;
+            }
+          }
+  #endif
         }
         if (work > budget || pending >= 0) break;
         if (narrow) {
@@ -279,7 +436,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       const int c = best;
       if (phase == nearest) {
         v0 = c;
-        row[0] = c;
+        if (writer) row[0] = c;
         w.ccw = 1;
         v = c;
         phase = ccw;
@@ -295,10 +452,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         reason = DeferReason::full_row;
         phase = deferred;
       } else {
-        if (phase == ccw)
-          row[w.ccw++] = c;
-        else
-          row[kStar - 1 - w.cw++] = c;
+        if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
+        (phase == ccw ? w.ccw : w.cw) += 1;
         v = c;
       }
       if (phase == ccw && pred_s == v) {
@@ -377,7 +532,7 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
 template <StarSearch Search>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes(g, pred, i, row, budget);
+    return walk_star_boxes<Walker::thread>(g, pred, i, row, budget);
   else
     return walk_star(g, pred, i, row, budget);
 }

@@ -212,13 +212,19 @@ int main(int argc, char** argv) {
               per_site, true, false);
   }
   unsetenv("EXPANSE_CUDA_BLOCKS_PER_SM");
-  // One pass only, and a first pass so short that nearly every site goes to the second.
+  // One pass only, and a first pass so short that nearly every site goes to the second, where a
+  // warp walks each site 32 candidates at a time (exact decisions and narrowing included: the
+  // grid's cocircular squares and the hull-hugging sites take those paths).
   for (const char* first : {"0", "8"}) {
     setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
-    grow_case(*backend, std::string("first-pass budget ") + first + ": uniform", generate_points("uniform", 1500, 3),
-              per_site, true, false);
-    grow_case(*backend, std::string("first-pass budget ") + first + ": kuzmin", generate_points("kuzmin", 1500, 7),
-              per_site, true, false);
+    const std::string label = std::string("first-pass budget ") + first + ": ";
+    grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
+    grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+    grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
+    if (small) continue;
+    for (const char* dist : {"duplicates", "near_collinear", "thin_circle", "rotated_grid"})
+      grow_case(*backend, label + dist, generate_points(dist, 1500, 7), per_site, true, false);
+    grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
 
