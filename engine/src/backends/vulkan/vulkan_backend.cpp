@@ -21,7 +21,9 @@
 #include <unordered_map>
 
 #include "backends/backend.hpp"
+#include "backends/vulkan/device_bucketing.hpp"
 #include "backends/vulkan/shader_registry.hpp"
+#include "input/parallel.hpp"
 
 namespace expanse::detail {
 namespace vk {
@@ -162,6 +164,16 @@ void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
 }
 
 VkDeviceSize bytes_of(std::size_t count, std::size_t size) { return VkDeviceSize(count) * size; }
+
+// memcpy in one sequential stream per host thread: the access pattern write-combined (uncached)
+// mapped memory needs, and page faults of a fresh destination spread over the cores.
+void copy_on_host_threads(void* to, const void* from, std::size_t bytes) {
+  detail::parallel_chunks(bytes, detail::chunk_count(bytes, std::size_t(1) << 20),
+                          [&](std::size_t, std::size_t begin, std::size_t end) {
+                            std::memcpy(static_cast<char*>(to) + begin,
+                                        static_cast<const char*>(from) + begin, end - begin);
+                          });
+}
 
 class VulkanBackend final : public Backend {
  public:
@@ -356,10 +368,62 @@ class VulkanBackend final : public Backend {
     return g;
   }
 
-  // Device triangles (sorted ids) -> partial.triangles (SiteSet ids), checking every id.
-  static void finish_stars(const StarGrid& g, const std::int32_t* raw, std::size_t count,
-                           PartialTriangulation& partial) {
-    partial.triangles.resize(count);
+  // A buffer the backend keeps between calls, made anew only when it is too small or of the
+  // other kind: allocating (for host-visible memory also pinning and zeroing) the per-site
+  // layout's buffers cost 325 ms of 2,435 at 4096^2 on the H100, on every call.
+  Buffer& kept(std::unique_ptr<Buffer>& slot, VkDeviceSize bytes, bool host_visible) {
+    if (!slot || slot->size() < bytes || (slot->mapped() != nullptr) != host_visible) {
+      slot.reset();  // the old one goes first: both need not fit at once
+      slot = std::make_unique<Buffer>(*context_, bytes, host_visible);
+    }
+    return *slot;
+  }
+
+  // Where the star grid's sites are sorted into cells. On a GPU, on the device (bucket.comp):
+  // host-visible memory there is uncached, and the host's scattered writes into it were the
+  // slowest stage (532 ms at 4096^2 on the H100). On a CPU device (lavapipe), on the host: its
+  // counting sort writes the buffers in place, and took 17 ms at 10^6 where bucket.comp took
+  // 200 ms and mapping the ids back 190 ms (this VM, 2026-11-23). EXPANSE_VULKAN_BUCKET=host or
+  // =device overrides (the tests run both on lavapipe).
+  static bool bucket_on_device(bool cpu_device) {
+    const char* where = std::getenv("EXPANSE_VULKAN_BUCKET");
+    if (where && std::strcmp(where, "host") == 0) return false;
+    if (where && std::strcmp(where, "device") == 0) return true;
+    return !cpu_device;
+  }
+
+  // The host's counting sort (bucket_stars), straight into the star kernel's buffers when they
+  // are host-visible (in place), else into a staging buffer whose copies `rec` records (the
+  // staging buffer is returned: it must live until `rec` is submitted). Used on CPU devices,
+  // and where a cell is too crowded for the device's ranking (bucket.comp, MAX_CELL).
+  std::unique_ptr<Buffer> bucket_on_host(const GrowInput& input, int cells, Recording& rec,
+                                         Buffer& sites, Buffer& cell_start, Buffer& predecessor,
+                                         StarGrid& grid) {
+    const std::size_t n = std::size_t(input.sites.size());
+    const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    if (sites.mapped() && cell_start.mapped() && predecessor.mapped()) {
+      grid = bucket_stars(input, cells, static_cast<Point2*>(sites.mapped()),
+                          static_cast<std::int32_t*>(cell_start.mapped()),
+                          static_cast<std::int32_t*>(predecessor.mapped()));
+      return nullptr;
+    }
+    const VkDeviceSize o_cells = bytes_of(n, 16), o_pred = o_cells + bytes_of(cell_entries, 4);
+    auto staging = std::make_unique<Buffer>(*context_, o_pred + bytes_of(n, 4), true);
+    char* at = static_cast<char*>(staging->mapped());
+    grid = bucket_stars(input, cells, reinterpret_cast<Point2*>(at),
+                        reinterpret_cast<std::int32_t*>(at + o_cells),
+                        reinterpret_cast<std::int32_t*>(at + o_pred));
+    rec.copy(*staging, sites, bytes_of(n, 16), 0);
+    rec.copy(*staging, cell_start, bytes_of(cell_entries, 4), o_cells);
+    rec.copy(*staging, predecessor, bytes_of(n, 4), o_pred);
+    rec.barrier();
+    return staging;
+  }
+
+  // Device triangles (sorted ids) -> partial.triangles (SiteSet ids, room already made),
+  // checking every id: the host's twin of bucket.comp's restore pass, when the host bucketed.
+  static void restore_on_host(const StarGrid& g, const std::int32_t* raw, std::size_t count,
+                              PartialTriangulation& partial) {
     const std::size_t n = g.to_site.size();
     std::atomic<bool> bad{false};
     parallel_chunks(count, host_workers(count), [&](std::size_t begin, std::size_t end, unsigned) {
@@ -374,6 +438,16 @@ class VulkanBackend final : public Backend {
         }
     });
     if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
+  }
+
+  // Room for the whole triangulation in both output vectors (the seam stage appends in place),
+  // faulted in on all host threads and sized to it, so the read-back is one parallel copy.
+  static void prepare_output(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites) {
+    reserve_full_triangulation(partial, sites, hull_sites);
+    detail::prefault_capacity(partial.triangles);
+    detail::prefault_capacity(partial.neighbors);
+    partial.triangles.resize(partial.triangles.capacity());
+    partial.neighbors.resize(partial.neighbors.capacity());
   }
 
   void grow_stars(const GrowInput& input, GrowResult& result) {
@@ -392,6 +466,7 @@ class VulkanBackend final : public Backend {
     auto start = Clock::now();
     const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    const GridFrame frame(input.sites, cells);
     result.host_stages.push_back({"vulkan: grid", ms_since(start)});
 
     // Each triangle is emitted once and there are at most 2n - 5.
@@ -409,42 +484,83 @@ class VulkanBackend final : public Backend {
                       " texels in one texel buffer; device " + ctx.name() + " allows " +
                       std::to_string(ctx.limits().maxTexelBufferElements));
 
-    start = Clock::now();
-    Buffer sites(ctx, bytes_of(n, 16), in_place);
-    Buffer cell_start(ctx, bytes_of(cell_entries, 4), in_place);
-    Buffer predecessor(ctx, bytes_of(n, 4), in_place);
-    Buffer triangles(ctx, bytes_of(capacity, 12), in_place);
-    Buffer counters(ctx, 64, in_place);
-    Buffer stars(ctx, bytes_of(n, 4 * star_capacity), in_place);
-    Buffer site_info(ctx, bytes_of(n, 8), in_place);
-    std::unique_ptr<Buffer> neighbors, unresolved, upload, download;
-    VkDeviceSize o_neighbors = 0, o_counters = 0, o_unresolved = 0;
-    const VkDeviceSize cell_offset = sites.size(), pred_offset = cell_offset + cell_start.size();
-    if (!in_place) {
-      neighbors = std::make_unique<Buffer>(ctx, bytes_of(capacity, 12), false);
-      unresolved = std::make_unique<Buffer>(ctx, bytes_of(unresolved_capacity, 4), false);
-      upload = std::make_unique<Buffer>(ctx, pred_offset + predecessor.size(), true);
-      // Download layout: triangles, neighbours, counters, unresolved slots.
-      o_neighbors = triangles.size();
-      o_counters = o_neighbors + neighbors->size();
-      o_unresolved = o_counters + counters.size();
-      download = std::make_unique<Buffer>(ctx, o_unresolved + unresolved->size(), true);
-    }
-    result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
-
-    start = Clock::now();
-    char* in = static_cast<char*>(in_place ? nullptr : upload->mapped());
-    const StarGrid g = bucket_stars(
-        input, cells, reinterpret_cast<Point2*>(in_place ? sites.mapped() : in),
-        reinterpret_cast<std::int32_t*>(in_place ? cell_start.mapped() : in + cell_offset),
-        reinterpret_cast<std::int32_t*>(in_place ? predecessor.mapped() : in + pred_offset));
-    if (in_place) std::memset(counters.mapped(), 0, counters.size());
-    result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
-
     // On lavapipe one workgroup = one SIMD batch, so the loop cap (see loop_budget) is shared
     // by as few invocations as possible.
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
+    DeviceBucketing bucketing(ctx, wg);
+
+    const bool device_bucketing = bucket_on_device(cpu_device);
+    start = Clock::now();
+    // The star kernel's inputs: host-visible where the host buckets in place.
+    Buffer& sites = kept(kept_.sites, bytes_of(n, 16), in_place);
+    Buffer& cell_start = kept(kept_.cell_start, bytes_of(cell_entries, 4), in_place);
+    Buffer& predecessor = kept(kept_.predecessor, bytes_of(n, 4), in_place);
+    // Read by the host: in place on a CPU device, else downloaded.
+    Buffer& triangles = kept(kept_.triangles, bytes_of(capacity, 12), in_place);
+    Buffer& counters = kept(kept_.counters, 64, in_place);
+    Buffer& stars = kept(kept_.stars, bytes_of(n, 4 * star_capacity), in_place);
+    Buffer& site_info = kept(kept_.site_info, bytes_of(n, 8), in_place);
+    Buffer *neighbors = nullptr, *unresolved = nullptr, *upload = nullptr, *download = nullptr;
+    // Device bucketing: the inputs in SiteSet order, written by the host (in place on a CPU
+    // device, else staged), and buffers the device alone makes and reads.
+    Buffer *input_sites = nullptr, *input_predecessor = nullptr, *to_site = nullptr;
+    if (device_bucketing) {
+      input_sites = &kept(kept_.input_sites, bytes_of(n, 16), in_place);
+      input_predecessor = &kept(kept_.input_predecessor, bytes_of(n, 4), in_place);
+      to_site = &kept(kept_.to_site, bytes_of(n, 4), false);
+      bucketing.bind({input_sites, input_predecessor, &kept(kept_.cell_key, bytes_of(n, 4), false),
+                      &cell_start, &kept(kept_.cursor, bytes_of(cell_entries - 1, 4), false),
+                      &kept(kept_.unordered, bytes_of(n, 4), false), &sites, to_site,
+                      &kept(kept_.to_sorted, bytes_of(n, 4), false), &predecessor, &triangles,
+                      &counters,
+                      &kept(kept_.scan_sums, bucketing.scan_sums_bytes(cell_entries), false)});
+    }
+    // Download layout: triangles, neighbours, counters, unresolved slots.
+    const VkDeviceSize o_neighbors = bytes_of(capacity, 12), o_counters = 2 * o_neighbors,
+                       o_unresolved = o_counters + 64;
+    if (!in_place) {
+      neighbors = &kept(kept_.neighbors, bytes_of(capacity, 12), false);
+      unresolved = &kept(kept_.unresolved, bytes_of(unresolved_capacity, 4), false);
+      if (device_bucketing) upload = &kept(kept_.upload, bytes_of(n, 20), true);
+      download = &kept(kept_.download, o_unresolved + bytes_of(unresolved_capacity, 4), true);
+    }
+    result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
+
+    // First submission: the sites into cells. Its one question for the host (was a cell too
+    // crowded to rank on the device?) is asked before the star kernel runs.
+    bool device_sorted = false;
+    if (device_bucketing) {
+      start = Clock::now();
+      char* staging = in_place ? nullptr : static_cast<char*>(upload->mapped());
+      copy_on_host_threads(in_place ? input_sites->mapped() : staging, input.sites.points.data(),
+                           bytes_of(n, 16));
+      copy_on_host_threads(in_place ? input_predecessor->mapped() : staging + bytes_of(n, 16),
+                           input.hull.predecessor.data(), bytes_of(n, 4));
+      result.host_stages.push_back({"vulkan: stage", ms_since(start)});
+
+      start = Clock::now();
+      Recording rec(ctx);
+      if (!in_place) {
+        rec.copy(*upload, *input_sites, bytes_of(n, 16), 0);
+        rec.copy(*upload, *input_predecessor, bytes_of(n, 4), bytes_of(n, 16));
+        rec.barrier();
+        rec.timestamp("vulkan: upload");
+      }
+      GridShape shape{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]}, cells};
+      bucketing.record_sort(rec, shape, n);
+      rec.timestamp("vulkan: bucket");
+      if (!in_place) {
+        rec.copy(counters, *download, counters.size(), 0, o_counters);
+        rec.barrier();
+      }
+      for (StageTime& stage : rec.submit()) result.device_stages.push_back(std::move(stage));
+      result.host_stages.push_back({"vulkan: bucket (submit + wait)", ms_since(start)});
+      const auto* words = static_cast<const std::uint32_t*>(
+          in_place ? counters.mapped() : static_cast<char*>(download->mapped()) + o_counters);
+      device_sorted = words[crowded_cell_counter] == 0;
+    }
+
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -460,24 +576,25 @@ class VulkanBackend final : public Backend {
     if (!in_place) {
       const std::uint32_t link_spec[] = {wg, star_capacity};
       links = &ctx.kernel("star_links", spirv::star_links(), 5, sizeof(LinkParams), link_spec);
-      Buffer* link_bindings[] = {&stars, &site_info, neighbors.get(), unresolved.get(), &counters};
+      Buffer* link_bindings[] = {&stars, &site_info, neighbors, unresolved, &counters};
       links->bind(link_bindings);
     }
 
     start = Clock::now();
     Recording rec(ctx);
-    if (!in_place) {
-      rec.copy(*upload, sites, sites.size(), 0);
-      rec.copy(*upload, cell_start, cell_start.size(), cell_offset);
-      rec.copy(*upload, predecessor, predecessor.size(), pred_offset);
-      rec.fill(counters, 0);
-      rec.barrier();
-      rec.timestamp("vulkan: upload");
+    StarGrid host_grid;  // when the host bucketed: its sorted id -> SiteSet id
+    std::unique_ptr<Buffer> host_bucketed;
+    if (!device_sorted) {
+      host_bucketed = bucket_on_host(input, cells, rec, sites, cell_start, predecessor, host_grid);
+      result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
+      start = Clock::now();
     }
+    rec.fill(counters, 0);
+    rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
     // on finding a better candidate.
-    StarParams params{{{g.origin[0], g.origin[1]}, {g.inv_width[0], g.inv_width[1]}, cells,
-                       std::int32_t(n), 0, std::int32_t(capacity)},
+    StarParams params{{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]},
+                       cells, std::int32_t(n), 0, std::int32_t(capacity)},
                       std::int32_t(std::clamp(48.0 / per_bucket, 4.0, 1.0e6)),
                       {0, 0, 0}};
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
@@ -497,45 +614,78 @@ class VulkanBackend final : public Backend {
       }
       rec.barrier();
       rec.timestamp("vulkan: links");
-      rec.copy(triangles, *download, triangles.size(), 0, 0);
-      rec.copy(*neighbors, *download, neighbors->size(), 0, o_neighbors);
+    }
+    // The triangles are in sorted ids; whoever bucketed maps them back to SiteSet ids.
+    if (device_sorted) {
+      bucketing.record_restore(rec, n, capacity);
+      rec.timestamp("vulkan: restore ids");
+    }
+    if (!in_place) {
+      rec.copy(triangles, *download, bytes_of(capacity, 12), 0, 0);
+      rec.copy(*neighbors, *download, bytes_of(capacity, 12), 0, o_neighbors);
       rec.copy(counters, *download, counters.size(), 0, o_counters);
-      rec.copy(*unresolved, *download, unresolved->size(), 0, o_unresolved);
+      rec.copy(*unresolved, *download, bytes_of(unresolved_capacity, 4), 0, o_unresolved);
       rec.barrier();
       rec.timestamp("vulkan: download");
     }
-    result.device_stages = rec.submit();
+    // While the device works, the host readies the output vectors (faulting in 805 MB at
+    // 4096^2 took the H100's host ~460 ms in the CUDA backend, done after the kernel).
+    auto& partial = result.partial;
+    std::vector<StageTime> device_stages;
+    std::exception_ptr device_failure;
+    std::thread waiter([&] {
+      try {
+        device_stages = rec.submit();
+      } catch (...) {
+        device_failure = std::current_exception();
+      }
+    });
+    try {
+      prepare_output(partial, n, input.hull.sites.size());
+    } catch (...) {
+      waiter.join();
+      throw;
+    }
+    waiter.join();
+    if (device_failure) std::rethrow_exception(device_failure);
+    for (StageTime& stage : device_stages) result.device_stages.push_back(std::move(stage));
     result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
 
     start = Clock::now();
     std::uint32_t count[16];
     const char* out = static_cast<const char*>(in_place ? nullptr : download->mapped());
     std::memcpy(count, in_place ? counters.mapped() : out + o_counters, sizeof(count));
-    if (count[2] != 0 || count[0] > capacity)
+    if (count[2] != 0 || count[0] > capacity || count[0] > partial.triangles.size())
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
-    // Room for the whole triangulation, so that the seam stage appends in place.
-    reserve_full_triangulation(result.partial, n, input.hull.sites.size());
-    finish_stars(g, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : download->mapped()),
-                 count[0], result.partial);
-    result.partial.deferred_expansions = count[1];
+    if (count[invalid_site_id_counter] != 0)
+      throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
+    static_assert(sizeof(partial.triangles[0]) == 12 && sizeof(partial.neighbors[0]) == 12);
+    if (device_sorted)
+      copy_on_host_threads(partial.triangles.data(), in_place ? triangles.mapped() : out,
+                           bytes_of(count[0], 12));
+    else
+      restore_on_host(host_grid, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : out),
+                      count[0], partial);
+    partial.triangles.resize(count[0]);
+    partial.deferred_expansions = count[1];
     result.iterations = 1;
     result.host_stages.push_back({"vulkan: read back", ms_since(start)});
 
     start = Clock::now();
     if (in_place) {
       link_stars(static_cast<const std::int32_t*>(stars.mapped()),
-                 static_cast<const std::int32_t*>(site_info.mapped()), n, result.partial);
+                 static_cast<const std::int32_t*>(site_info.mapped()), n, partial);
       result.host_stages.push_back({"vulkan: links (host)", ms_since(start)});
     } else if (count[5] == 0 && count[6] == 0) {
-      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
-      // Either way the adjacency is left empty, and the pipeline derives it.
-      auto& nbrs = result.partial.neighbors;
-      nbrs.resize(result.partial.triangles.size());
-      static_assert(sizeof(nbrs[0]) == 12);
-      std::memcpy(nbrs.data(), out + o_neighbors, nbrs.size() * 12);
+      partial.neighbors.resize(count[0]);
+      copy_on_host_threads(partial.neighbors.data(), out + o_neighbors, bytes_of(count[0], 12));
       const auto* slots = reinterpret_cast<const std::int32_t*>(out + o_unresolved);
-      pair_unresolved(std::vector<std::int32_t>(slots, slots + count[4]), result.partial);
+      pair_unresolved(std::vector<std::int32_t>(slots, slots + count[4]), partial);
       result.host_stages.push_back({"vulkan: links (read back)", ms_since(start)});
+    } else {
+      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
+      // Either way the adjacency is left empty (its room kept), and the pipeline derives it.
+      partial.neighbors.clear();
     }
   }
 
@@ -856,6 +1006,13 @@ class VulkanBackend final : public Backend {
   }
 
   std::shared_ptr<Context> context_;
+  // The per-site layout's buffers, kept between calls (see kept()); destroyed before the
+  // context they belong to.
+  struct StarBuffers {
+    std::unique_ptr<Buffer> input_sites, input_predecessor, cell_key, cursor, unordered, to_sorted,
+        scan_sums, sites, cell_start, predecessor, to_site, triangles, counters, stars, site_info,
+        neighbors, unresolved, upload, download;
+  } kept_;
 };
 
 }  // namespace
