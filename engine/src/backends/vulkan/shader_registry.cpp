@@ -2,6 +2,7 @@
 // makes it depend on them).
 #include "backends/vulkan/shader_registry.hpp"
 
+#include "expanse_spirv/audit_spv.h"
 #include "expanse_spirv/blocks_spv.h"
 #include "expanse_spirv/bucket_spv.h"
 #include "expanse_spirv/predicate_test_spv.h"
@@ -17,5 +18,6 @@ std::span<const std::uint32_t> blocks() { return expanse_spirv_blocks; }
 std::span<const std::uint32_t> predicate_test() { return expanse_spirv_predicate_test; }
 std::span<const std::uint32_t> bucket() { return expanse_spirv_bucket; }
 std::span<const std::uint32_t> scan() { return expanse_spirv_scan; }
+std::span<const std::uint32_t> audit() { return expanse_spirv_audit; }
 
 }  // namespace expanse::detail::vk::spirv

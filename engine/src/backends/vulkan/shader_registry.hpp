@@ -11,5 +11,6 @@ std::span<const std::uint32_t> blocks();
 std::span<const std::uint32_t> predicate_test();
 std::span<const std::uint32_t> bucket();
 std::span<const std::uint32_t> scan();
+std::span<const std::uint32_t> audit();
 
 }  // namespace expanse::detail::vk::spirv

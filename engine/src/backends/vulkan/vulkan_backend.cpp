@@ -145,6 +145,17 @@ int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_bu
   return int(std::clamp(std::ceil(std::sqrt(crowding * double(n) / per_bucket)), 1.0, std::max(1.0, most)));
 }
 
+// audit.comp's push constants.
+struct AuditParams {
+  std::int32_t triangle_capacity;
+  std::int32_t open_capacity;
+  std::int32_t first;
+  std::int32_t pad;
+};
+static_assert(sizeof(AuditParams) == 16);
+// counters[] words audit.comp sets: bad links, open edges inside the hull, open edges not listed.
+constexpr std::size_t bad_link_counter = 10, open_edge_counter = 11, open_overflow_counter = 12;
+
 struct LinkParams {
   std::int32_t count;
   std::int32_t first;
@@ -175,6 +186,80 @@ void copy_on_host_threads(void* to, const void* from, std::size_t bytes) {
                           });
 }
 
+// The host's part of the device audit (audit.comp checked every link the device made and
+// listed the open slots, edges inside the hull with no link): the links pair_unresolved made
+// on the host lead to the reverse edge and back, and no edge left open has its reverse open
+// too, as seam/adjacency_audit.cpp's second check. Costs the seam's size, not the mesh's.
+bool open_edges_check_out(const std::vector<std::int32_t>& open_slots,
+                                 const std::vector<std::int32_t>& paired_slots,
+                                 const PartialTriangulation& partial) {
+  const std::size_t count = partial.triangles.size();
+  auto edge_at = [&](std::int32_t slot, std::int32_t& x, std::int32_t& y) {
+    const Triangle& t = partial.triangles[std::size_t(slot / 3)];
+    x = t[std::size_t((slot % 3 + 1) % 3)];
+    y = t[std::size_t((slot % 3 + 2) % 3)];
+  };
+  auto key = [](std::int32_t x, std::int32_t y) {
+    return (std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y);
+  };
+  std::unordered_map<std::uint64_t, int> still_open;
+  for (const auto* list : {&open_slots, &paired_slots}) {
+    for (std::int32_t slot : *list) {
+      if (slot < 0 || std::size_t(slot / 3) >= count) return false;
+      const std::int32_t u = partial.neighbors[std::size_t(slot / 3)][std::size_t(slot % 3)];
+      std::int32_t x, y;
+      edge_at(slot, x, y);
+      if (u == no_neighbor) {
+        still_open.emplace(key(x, y), 0);
+        continue;
+      }
+      if (u < 0 || std::size_t(u) >= count) return false;
+      const Triangle& other = partial.triangles[std::size_t(u)];
+      int j = 0;
+      while (j < 3 && !(other[std::size_t((j + 1) % 3)] == y && other[std::size_t((j + 2) % 3)] == x)) ++j;
+      if (j == 3 || partial.neighbors[std::size_t(u)][std::size_t(j)] != slot / 3) return false;
+    }
+  }
+  for (const auto& [edge, unused] : still_open)
+    if (still_open.count((edge << 32) | (edge >> 32))) return false;
+  return true;
+}
+
+// Records audit.comp over the first counters[0] (at most `capacity`) triangles, in SiteSet ids,
+// and their links; `predecessor` is hull.predecessor. Binds the kernel: between submissions only.
+void record_audit(Context& ctx, Recording& rec, std::uint32_t wg, Buffer& triangles,
+                  Buffer& neighbors, Buffer& predecessor, Buffer& open_slots, Buffer& counters,
+                  std::size_t capacity, std::size_t open_capacity) {
+  const std::uint32_t audit_spec[] = {wg};
+  Kernel& audit = ctx.kernel("audit", spirv::audit(), 5, sizeof(AuditParams), audit_spec);
+  Buffer* bindings[] = {&triangles, &neighbors, &predecessor, &open_slots, &counters};
+  audit.bind(bindings);
+  AuditParams params{std::int32_t(capacity), std::int32_t(open_capacity), 0, 0};
+  const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
+  for (std::uint64_t first = 0; first < capacity; first += max_groups * wg) {
+    params.first = std::int32_t(first);
+    const std::uint64_t left = (capacity - first + wg - 1) / wg;
+    rec.dispatch(audit, &params, std::uint32_t(std::min(left, max_groups)));
+  }
+  rec.barrier();
+}
+
+/// A cells x cells grid over the sites' bounding box (cell_coord's origin and scale).
+struct GridFrame {
+  int cells = 0;
+  double origin[2]{}, inv_width[2]{};
+
+  GridFrame() = default;
+  GridFrame(const SiteSet& sites, int cells_per_side) : cells(cells_per_side) {
+    origin[0] = sites.bounds.min_x;
+    origin[1] = sites.bounds.min_y;
+    const double wx = sites.bounds.max_x - sites.bounds.min_x;
+    const double wy = sites.bounds.max_y - sites.bounds.min_y;
+    inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
+    inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+  }
+};
+
 class VulkanBackend final : public Backend {
  public:
   explicit VulkanBackend(std::shared_ptr<Context> context) : context_(std::move(context)) {}
@@ -199,22 +284,6 @@ class VulkanBackend final : public Backend {
   }
 
  private:
-  /// A cells x cells grid over the sites' bounding box (cell_coord's origin and scale).
-  struct GridFrame {
-    int cells = 0;
-    double origin[2]{}, inv_width[2]{};
-
-    GridFrame() = default;
-    GridFrame(const SiteSet& sites, int cells_per_side) : cells(cells_per_side) {
-      origin[0] = sites.bounds.min_x;
-      origin[1] = sites.bounds.min_y;
-      const double wx = sites.bounds.max_x - sites.bounds.min_x;
-      const double wy = sites.bounds.max_y - sites.bounds.min_y;
-      inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
-      inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
-    }
-  };
-
   struct Sorted : GridFrame {
     std::vector<Point2> points;            // sites sorted by cell (row-major)
     std::vector<std::int32_t> to_site;     // sorted id -> SiteSet id
@@ -516,14 +585,20 @@ class VulkanBackend final : public Backend {
                       &counters,
                       &kept(kept_.scan_sums, bucketing.scan_sums_bytes(cell_entries), false)});
     }
-    // Download layout: triangles, neighbours, counters, unresolved slots.
+    // Download layout: triangles, neighbours, counters, unresolved slots, open slots.
     const VkDeviceSize o_neighbors = bytes_of(capacity, 12), o_counters = 2 * o_neighbors,
-                       o_unresolved = o_counters + 64;
+                       o_unresolved = o_counters + 64,
+                       o_open = o_unresolved + bytes_of(unresolved_capacity, 4);
+    // The device audits the adjacency where it has the triangles in SiteSet ids and the hull
+    // (device bucketing), and made the adjacency (GPU path): open slots, as many as unresolved.
+    const bool device_audit = device_bucketing && !in_place;
+    Buffer* open_slots = nullptr;
     if (!in_place) {
       neighbors = &kept(kept_.neighbors, bytes_of(capacity, 12), false);
       unresolved = &kept(kept_.unresolved, bytes_of(unresolved_capacity, 4), false);
+      if (device_audit) open_slots = &kept(kept_.open_slots, bytes_of(unresolved_capacity, 4), false);
       if (device_bucketing) upload = &kept(kept_.upload, bytes_of(n, 20), true);
-      download = &kept(kept_.download, o_unresolved + bytes_of(unresolved_capacity, 4), true);
+      download = &kept(kept_.download, o_open + bytes_of(unresolved_capacity, 4), true);
     }
     result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
 
@@ -620,11 +695,17 @@ class VulkanBackend final : public Backend {
       bucketing.record_restore(rec, n, capacity);
       rec.timestamp("vulkan: restore ids");
     }
+    if (device_sorted && device_audit) {
+      record_audit(ctx, rec, wg, triangles, *neighbors, *input_predecessor, *open_slots, counters,
+                   capacity, unresolved_capacity);
+      rec.timestamp("vulkan: audit");
+    }
     if (!in_place) {
       rec.copy(triangles, *download, bytes_of(capacity, 12), 0, 0);
       rec.copy(*neighbors, *download, bytes_of(capacity, 12), 0, o_neighbors);
       rec.copy(counters, *download, counters.size(), 0, o_counters);
       rec.copy(*unresolved, *download, bytes_of(unresolved_capacity, 4), 0, o_unresolved);
+      if (open_slots) rec.copy(*open_slots, *download, bytes_of(unresolved_capacity, 4), 0, o_open);
       rec.barrier();
       rec.timestamp("vulkan: download");
     }
@@ -680,8 +761,21 @@ class VulkanBackend final : public Backend {
       partial.neighbors.resize(count[0]);
       copy_on_host_threads(partial.neighbors.data(), out + o_neighbors, bytes_of(count[0], 12));
       const auto* slots = reinterpret_cast<const std::int32_t*>(out + o_unresolved);
-      pair_unresolved(std::vector<std::int32_t>(slots, slots + count[4]), partial);
+      const std::vector<std::int32_t> unresolved_slots(slots, slots + count[4]);
+      pair_unresolved(unresolved_slots, partial);
       result.host_stages.push_back({"vulkan: links (read back)", ms_since(start)});
+      if (device_sorted && device_audit && count[open_overflow_counter] == 0) {
+        // A failed device audit is final: the pipeline derives the adjacency itself (the host
+        // audit would find the same, after reading all of it).
+        start = Clock::now();
+        const auto* open = reinterpret_cast<const std::int32_t*>(out + o_open);
+        result.adjacency_audited =
+            count[bad_link_counter] == 0 &&
+            open_edges_check_out(std::vector<std::int32_t>(open, open + count[open_edge_counter]),
+                                 unresolved_slots, partial);
+        if (!result.adjacency_audited) partial.neighbors.clear();
+        result.host_stages.push_back({"vulkan: audit (open edges)", ms_since(start)});
+      }
     } else {
       // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
       // Either way the adjacency is left empty (its room kept), and the pipeline derives it.
@@ -1011,7 +1105,7 @@ class VulkanBackend final : public Backend {
   struct StarBuffers {
     std::unique_ptr<Buffer> input_sites, input_predecessor, cell_key, cursor, unordered, to_sorted,
         scan_sums, sites, cell_start, predecessor, to_site, triangles, counters, stars, site_info,
-        neighbors, unresolved, upload, download;
+        neighbors, unresolved, open_slots, upload, download;
   } kept_;
 };
 
@@ -1067,6 +1161,92 @@ void run_predicate_kernel(Context& ctx, std::span<const double> cases,
   std::memcpy(signs.data(), download.mapped(), signs.size() * 4);
   std::memcpy(eft.data(), static_cast<char*>(download.mapped()) + out_signs.size(),
               eft.size() * 8);
+}
+
+DeviceBuckets bucket_on_device(Context& ctx, const SiteSet& sites, const Hull& hull, int cells) {
+  std::lock_guard lock(ctx.mutex());
+  const std::size_t n = std::size_t(sites.size());
+  const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+  const std::uint32_t wg = 64;
+  DeviceBucketing bucketing(ctx, wg);
+  Buffer input_sites(ctx, bytes_of(n, 16), false), input_predecessor(ctx, bytes_of(n, 4), false);
+  Buffer cell_key(ctx, bytes_of(n, 4), false), cell_start(ctx, bytes_of(cell_entries, 4), false);
+  Buffer cursor(ctx, bytes_of(cell_entries, 4), false), unordered(ctx, bytes_of(n, 4), false);
+  Buffer sorted(ctx, bytes_of(n, 16), false), to_site(ctx, bytes_of(n, 4), false);
+  Buffer to_sorted(ctx, bytes_of(n, 4), false), predecessor(ctx, bytes_of(n, 4), false);
+  Buffer triangles(ctx, 16, false), counters(ctx, 64, false);
+  Buffer scan_sums(ctx, bucketing.scan_sums_bytes(cell_entries), false);
+  bucketing.bind({&input_sites, &input_predecessor, &cell_key, &cell_start, &cursor, &unordered,
+                  &sorted, &to_site, &to_sorted, &predecessor, &triangles, &counters, &scan_sums});
+  Buffer upload(ctx, bytes_of(n, 20), true);
+  std::memcpy(upload.mapped(), sites.points.data(), bytes_of(n, 16));
+  std::memcpy(static_cast<char*>(upload.mapped()) + bytes_of(n, 16), hull.predecessor.data(), bytes_of(n, 4));
+  // Download layout: sorted sites, cell starts, to_site, predecessor, counters.
+  const VkDeviceSize o_cells = bytes_of(n, 16), o_to_site = o_cells + bytes_of(cell_entries, 4),
+                     o_pred = o_to_site + bytes_of(n, 4), o_counters = o_pred + bytes_of(n, 4);
+  Buffer download(ctx, o_counters + 64, true);
+  Recording rec(ctx);
+  rec.copy(upload, input_sites, bytes_of(n, 16), 0);
+  rec.copy(upload, input_predecessor, bytes_of(n, 4), bytes_of(n, 16));
+  rec.barrier();
+  const GridFrame frame(sites, cells);
+  bucketing.record_sort(rec, {{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]}, cells}, n);
+  rec.copy(sorted, download, bytes_of(n, 16), 0, 0);
+  rec.copy(cell_start, download, bytes_of(cell_entries, 4), 0, o_cells);
+  rec.copy(to_site, download, bytes_of(n, 4), 0, o_to_site);
+  rec.copy(predecessor, download, bytes_of(n, 4), 0, o_pred);
+  rec.copy(counters, download, 64, 0, o_counters);
+  rec.barrier();
+  rec.submit();
+  const char* out = static_cast<const char*>(download.mapped());
+  DeviceBuckets b;
+  b.sites.assign(reinterpret_cast<const Point2*>(out), reinterpret_cast<const Point2*>(out) + n);
+  auto ints = [&](VkDeviceSize offset, std::size_t count) {
+    const auto* p = reinterpret_cast<const std::int32_t*>(out + offset);
+    return std::vector<std::int32_t>(p, p + count);
+  };
+  b.cell_start = ints(o_cells, cell_entries);
+  b.to_site = ints(o_to_site, n);
+  b.predecessor = ints(o_pred, n);
+  b.crowded = reinterpret_cast<const std::uint32_t*>(out + o_counters)[crowded_cell_counter] != 0;
+  return b;
+}
+
+bool audit_on_device(Context& ctx, const PartialTriangulation& partial, const Hull& hull) {
+  std::lock_guard lock(ctx.mutex());
+  const std::size_t count = partial.triangles.size();
+  if (partial.neighbors.size() != count || count == 0) return false;
+  const std::size_t sites = hull.predecessor.size(), open_capacity = count + 16;
+  static_assert(sizeof(partial.triangles[0]) == 12 && sizeof(partial.neighbors[0]) == 12);
+  Buffer triangles(ctx, bytes_of(count, 12), false), neighbors(ctx, bytes_of(count, 12), false);
+  Buffer predecessor(ctx, bytes_of(sites, 4), false), open_slots(ctx, bytes_of(open_capacity, 4), false);
+  Buffer counters(ctx, 64, false);
+  const VkDeviceSize o_neighbors = bytes_of(count, 12), o_pred = 2 * o_neighbors,
+                     o_counters = o_pred + bytes_of(sites, 4);
+  Buffer upload(ctx, o_counters + 64, true);
+  char* in = static_cast<char*>(upload.mapped());
+  std::memcpy(in, partial.triangles.data(), bytes_of(count, 12));
+  std::memcpy(in + o_neighbors, partial.neighbors.data(), bytes_of(count, 12));
+  std::memcpy(in + o_pred, hull.predecessor.data(), bytes_of(sites, 4));
+  std::uint32_t words[16] = {std::uint32_t(count)};
+  std::memcpy(in + o_counters, words, sizeof(words));
+  Buffer download(ctx, 64 + bytes_of(open_capacity, 4), true);
+  Recording rec(ctx);
+  rec.copy(upload, triangles, bytes_of(count, 12), 0);
+  rec.copy(upload, neighbors, bytes_of(count, 12), o_neighbors);
+  rec.copy(upload, predecessor, bytes_of(sites, 4), o_pred);
+  rec.copy(upload, counters, 64, o_counters);
+  rec.barrier();
+  record_audit(ctx, rec, 64, triangles, neighbors, predecessor, open_slots, counters, count, open_capacity);
+  rec.copy(counters, download, 64, 0, 0);
+  rec.copy(open_slots, download, bytes_of(open_capacity, 4), 0, 64);
+  rec.barrier();
+  rec.submit();
+  std::memcpy(words, download.mapped(), sizeof(words));
+  if (words[bad_link_counter] != 0 || words[open_overflow_counter] != 0) return false;
+  const auto* open = reinterpret_cast<const std::int32_t*>(static_cast<char*>(download.mapped()) + 64);
+  return open_edges_check_out(std::vector<std::int32_t>(open, open + words[open_edge_counter]), {},
+                              partial);
 }
 
 std::string eft_self_test(Context& ctx) {
