@@ -661,6 +661,7 @@ class VulkanBackend final : public Backend {
     std::unique_ptr<Buffer> host_bucketed;
     if (!device_sorted) {
       host_bucketed = bucket_on_host(input, cells, rec, sites, cell_start, predecessor, host_grid);
+      if (host_bucketed) rec.timestamp("vulkan: upload");
       result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
       start = Clock::now();
     }
