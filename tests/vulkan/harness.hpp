@@ -28,5 +28,6 @@ void test_predicates();
 void test_eft();
 void test_backend();
 void test_stars();
+void test_device_passes();
 
 }  // namespace expanse::vulkan_tests

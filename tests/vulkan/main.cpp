@@ -1,4 +1,4 @@
-// expanse_vulkan_tests <predicates|eft|backend|stars|all>
+// expanse_vulkan_tests <predicates|eft|backend|stars|device|all>
 #include <cstring>
 #include <exception>
 
@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     if (all || std::strcmp(suite, "eft") == 0) vulkan_tests::test_eft();
     if (all || std::strcmp(suite, "backend") == 0) vulkan_tests::test_backend();
     if (all || std::strcmp(suite, "stars") == 0) vulkan_tests::test_stars();
+    if (all || std::strcmp(suite, "device") == 0) vulkan_tests::test_device_passes();
   } catch (const std::exception& e) {
     std::printf("FAILED with exception: %s\n", e.what());
     return 1;

@@ -151,9 +151,11 @@ void check_device_adjacency(const Input& input) {
 // (before the pipeline) consistent with its triangles: every link crosses a shared edge and
 // links back, and a slot is no_neighbor exactly when no emitted triangle lies across.
 void check_large(const std::string& name, const std::vector<Point2>& points,
-                 const std::vector<Triangle>& expected, bool staged) {
+                 const std::vector<Triangle>& expected, bool staged, bool device_bucketing) {
   setenv("EXPANSE_VULKAN_STAGED", staged ? "1" : "0", 1);
-  const char* path = staged ? "staged" : "in place";
+  setenv("EXPANSE_VULKAN_BUCKET", device_bucketing ? "device" : "host", 1);
+  const char* path = staged ? (device_bucketing ? "staged, bucketed on the device" : "staged")
+                            : (device_bucketing ? "in place, bucketed on the device" : "in place");
   Options vk;
   vk.backend = BackendKind::vulkan;
   const Mesh mesh = triangulate(points, vk);
@@ -187,7 +189,7 @@ void check_large(const std::string& name, const std::vector<Point2>& points,
                       t, k, nbrs[t][k], want);
     }
   VK_CHECK_THAT(wrong == 0, "%s, %s: %zu wrong adjacency slots", name.c_str(), path, wrong);
-  std::printf("  %-44s %-9s triangles %7zu  gpu %7zu  seam %5zu  deferred %4zu\n", name.c_str(),
+  std::printf("  %-44s %-32s triangles %7zu  gpu %7zu  seam %5zu  deferred %4zu\n", name.c_str(),
               path, mesh.triangles.size(), mesh.stats.gpu_triangles, mesh.stats.seam_triangles,
               mesh.stats.deferred_expansions);
 }
@@ -196,7 +198,8 @@ void check_large(const std::string& name, const std::vector<Point2>& points,
 
 // The per-site layout where its host passes run on all threads (>= 65536 sites), where the grid
 // is sized by crowding (clusters), and past lavapipe's dispatch split (65535 workgroups of 8
-// sites), on both paths: in place (CPU devices) and staged (GPUs: copies, star_links.comp).
+// sites), on both paths: in place (CPU devices) and staged (GPUs: copies, star_links.comp),
+// and the staged one also with the GPUs' bucketing and audit on the device.
 void test_stars() {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -230,9 +233,13 @@ void test_stars() {
     Options cpu;
     cpu.backend = BackendKind::cpu;
     const auto expected = canonical(triangulate(points, cpu).triangles);
-    for (bool staged : {false, true}) check_large(name, points, expected, staged);
+    // The GPU path as a GPU takes it: staged, bucketed on the device (past the dispatch split
+    // too: its passes cover up to 6 invocations per site).
+    for (bool staged : {false, true}) check_large(name, points, expected, staged, false);
+    check_large(name, points, expected, true, true);
   }
   unsetenv("EXPANSE_VULKAN_STAGED");
+  unsetenv("EXPANSE_VULKAN_BUCKET");
 }
 
 void test_backend() {

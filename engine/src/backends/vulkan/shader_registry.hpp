@@ -9,5 +9,8 @@ std::span<const std::uint32_t> star();
 std::span<const std::uint32_t> star_links();
 std::span<const std::uint32_t> blocks();
 std::span<const std::uint32_t> predicate_test();
+std::span<const std::uint32_t> bucket();
+std::span<const std::uint32_t> scan();
+std::span<const std::uint32_t> audit();
 
 }  // namespace expanse::detail::vk::spirv

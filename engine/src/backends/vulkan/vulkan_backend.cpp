@@ -17,11 +17,14 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unordered_map>
 
 #include "backends/backend.hpp"
+#include "backends/vulkan/device_bucketing.hpp"
 #include "backends/vulkan/shader_registry.hpp"
+#include "input/parallel.hpp"
 
 namespace expanse::detail {
 namespace vk {
@@ -88,11 +91,15 @@ int cell_coord(double x, double origin, double inv_width, int cells) {
 
 // Device predicates are only valid when no value they form can be subnormal (see
 // shaders/include/predicates.glsl): every nonzero |coordinate| must be at least 2^-200.
+// A pass over every site, on all host threads (a GPU waits for it).
 bool device_safe(const SiteSet& sites) {
-  for (const Point2& p : sites.points)
-    for (double v : {p.x, p.y})
-      if (v != 0.0 && std::fabs(v) < 0x1p-200) return false;
-  return true;
+  std::atomic<bool> safe{true};
+  detail::parallel_chunks(std::size_t(sites.size()), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (double v : {sites.points[i].x, sites.points[i].y})
+        if (v != 0.0 && std::fabs(v) < 0x1p-200) safe.store(false, std::memory_order_relaxed);
+  });
+  return safe.load();
 }
 
 struct GridParams {
@@ -124,11 +131,24 @@ int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_bu
   const double wx = sites.bounds.max_x - sites.bounds.min_x;
   const double wy = sites.bounds.max_y - sites.bounds.min_y;
   const int h = int(std::clamp(std::sqrt(double(n) / 64.0), 1.0, 256.0));
-  std::vector<std::uint32_t> bins(std::size_t(h) * std::size_t(h), 0);
+  const std::size_t bin_count = std::size_t(h) * std::size_t(h);
   const double ix = wx > 0 ? h / wx : 0.0, iy = wy > 0 ? h / wy : 0.0;
-  for (const Point2& p : sites.points)
-    ++bins[std::size_t(cell_coord(p.y, sites.bounds.min_y, iy, h)) * std::size_t(h) +
-           std::size_t(cell_coord(p.x, sites.bounds.min_x, ix, h))];
+  // The histogram on all host threads, one set of bins per chunk (at most 256 KB each), summed:
+  // done on one thread it was the `vulkan: grid` stage's 121 ms at 4096^2 on the H100's host.
+  const std::size_t chunks = detail::chunk_count(n);
+  std::vector<std::vector<std::uint32_t>> chunk_bins(chunks);
+  detail::parallel_chunks(n, chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t>& own = chunk_bins[c];
+    own.assign(bin_count, 0);
+    for (std::size_t i = begin; i < end; ++i) {
+      const Point2& p = sites.points[i];
+      ++own[std::size_t(cell_coord(p.y, sites.bounds.min_y, iy, h)) * std::size_t(h) +
+            std::size_t(cell_coord(p.x, sites.bounds.min_x, ix, h))];
+    }
+  });
+  std::vector<std::uint32_t> bins = std::move(chunk_bins[0]);
+  for (std::size_t c = 1; c < chunks; ++c)
+    for (std::size_t b = 0; b < bin_count; ++b) bins[b] += chunk_bins[c][b];
   std::sort(bins.begin(), bins.end(), std::greater<>());
   std::size_t seen = 0;
   double median_bin = 1.0;
@@ -142,6 +162,17 @@ int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_bu
                                 std::floor(std::sqrt(double(max_buffer / 4) - 1.0))});
   return int(std::clamp(std::ceil(std::sqrt(crowding * double(n) / per_bucket)), 1.0, std::max(1.0, most)));
 }
+
+// audit.comp's push constants.
+struct AuditParams {
+  std::int32_t triangle_capacity;
+  std::int32_t open_capacity;
+  std::int32_t first;
+  std::int32_t pad;
+};
+static_assert(sizeof(AuditParams) == 16);
+// counters[] words audit.comp sets: bad links, open edges inside the hull, open edges not listed.
+constexpr std::size_t bad_link_counter = 10, open_edge_counter = 11, open_overflow_counter = 12;
 
 struct LinkParams {
   std::int32_t count;
@@ -162,6 +193,90 @@ void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
 }
 
 VkDeviceSize bytes_of(std::size_t count, std::size_t size) { return VkDeviceSize(count) * size; }
+
+// memcpy in one sequential stream per host thread: the access pattern write-combined (uncached)
+// mapped memory needs, and page faults of a fresh destination spread over the cores.
+void copy_on_host_threads(void* to, const void* from, std::size_t bytes) {
+  detail::parallel_chunks(bytes, detail::chunk_count(bytes, std::size_t(1) << 20),
+                          [&](std::size_t, std::size_t begin, std::size_t end) {
+                            std::memcpy(static_cast<char*>(to) + begin,
+                                        static_cast<const char*>(from) + begin, end - begin);
+                          });
+}
+
+// The host's part of the device audit (audit.comp checked every link the device made and
+// listed the open slots, edges inside the hull with no link): the links pair_unresolved made
+// on the host lead to the reverse edge and back, and no edge left open has its reverse open
+// too, as seam/adjacency_audit.cpp's second check. Costs the seam's size, not the mesh's.
+bool open_edges_check_out(const std::vector<std::int32_t>& open_slots,
+                                 const std::vector<std::int32_t>& paired_slots,
+                                 const PartialTriangulation& partial) {
+  const std::size_t count = partial.triangles.size();
+  auto edge_at = [&](std::int32_t slot, std::int32_t& x, std::int32_t& y) {
+    const Triangle& t = partial.triangles[std::size_t(slot / 3)];
+    x = t[std::size_t((slot % 3 + 1) % 3)];
+    y = t[std::size_t((slot % 3 + 2) % 3)];
+  };
+  auto key = [](std::int32_t x, std::int32_t y) {
+    return (std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y);
+  };
+  std::unordered_map<std::uint64_t, int> still_open;
+  for (const auto* list : {&open_slots, &paired_slots}) {
+    for (std::int32_t slot : *list) {
+      if (slot < 0 || std::size_t(slot / 3) >= count) return false;
+      const std::int32_t u = partial.neighbors[std::size_t(slot / 3)][std::size_t(slot % 3)];
+      std::int32_t x, y;
+      edge_at(slot, x, y);
+      if (u == no_neighbor) {
+        still_open.emplace(key(x, y), 0);
+        continue;
+      }
+      if (u < 0 || std::size_t(u) >= count) return false;
+      const Triangle& other = partial.triangles[std::size_t(u)];
+      int j = 0;
+      while (j < 3 && !(other[std::size_t((j + 1) % 3)] == y && other[std::size_t((j + 2) % 3)] == x)) ++j;
+      if (j == 3 || partial.neighbors[std::size_t(u)][std::size_t(j)] != slot / 3) return false;
+    }
+  }
+  for (const auto& [edge, unused] : still_open)
+    if (still_open.count((edge << 32) | (edge >> 32))) return false;
+  return true;
+}
+
+// Records audit.comp over the first counters[0] (at most `capacity`) triangles, in SiteSet ids,
+// and their links; `predecessor` is hull.predecessor. Binds the kernel: between submissions only.
+void record_audit(Context& ctx, Recording& rec, std::uint32_t wg, Buffer& triangles,
+                  Buffer& neighbors, Buffer& predecessor, Buffer& open_slots, Buffer& counters,
+                  std::size_t capacity, std::size_t open_capacity) {
+  const std::uint32_t audit_spec[] = {wg};
+  Kernel& audit = ctx.kernel("audit", spirv::audit(), 5, sizeof(AuditParams), audit_spec);
+  Buffer* bindings[] = {&triangles, &neighbors, &predecessor, &open_slots, &counters};
+  audit.bind(bindings);
+  AuditParams params{std::int32_t(capacity), std::int32_t(open_capacity), 0, 0};
+  const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
+  for (std::uint64_t first = 0; first < capacity; first += max_groups * wg) {
+    params.first = std::int32_t(first);
+    const std::uint64_t left = (capacity - first + wg - 1) / wg;
+    rec.dispatch(audit, &params, std::uint32_t(std::min(left, max_groups)));
+  }
+  rec.barrier();
+}
+
+/// A cells x cells grid over the sites' bounding box (cell_coord's origin and scale).
+struct GridFrame {
+  int cells = 0;
+  double origin[2]{}, inv_width[2]{};
+
+  GridFrame() = default;
+  GridFrame(const SiteSet& sites, int cells_per_side) : cells(cells_per_side) {
+    origin[0] = sites.bounds.min_x;
+    origin[1] = sites.bounds.min_y;
+    const double wx = sites.bounds.max_x - sites.bounds.min_x;
+    const double wy = sites.bounds.max_y - sites.bounds.min_y;
+    inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
+    inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
+  }
+};
 
 class VulkanBackend final : public Backend {
  public:
@@ -187,22 +302,6 @@ class VulkanBackend final : public Backend {
   }
 
  private:
-  /// A cells x cells grid over the sites' bounding box (cell_coord's origin and scale).
-  struct GridFrame {
-    int cells = 0;
-    double origin[2]{}, inv_width[2]{};
-
-    GridFrame() = default;
-    GridFrame(const SiteSet& sites, int cells_per_side) : cells(cells_per_side) {
-      origin[0] = sites.bounds.min_x;
-      origin[1] = sites.bounds.min_y;
-      const double wx = sites.bounds.max_x - sites.bounds.min_x;
-      const double wy = sites.bounds.max_y - sites.bounds.min_y;
-      inv_width[0] = wx > 0 ? double(cells) / wx : 0.0;
-      inv_width[1] = wy > 0 ? double(cells) / wy : 0.0;
-    }
-  };
-
   struct Sorted : GridFrame {
     std::vector<Point2> points;            // sites sorted by cell (row-major)
     std::vector<std::int32_t> to_site;     // sorted id -> SiteSet id
@@ -356,10 +455,62 @@ class VulkanBackend final : public Backend {
     return g;
   }
 
-  // Device triangles (sorted ids) -> partial.triangles (SiteSet ids), checking every id.
-  static void finish_stars(const StarGrid& g, const std::int32_t* raw, std::size_t count,
-                           PartialTriangulation& partial) {
-    partial.triangles.resize(count);
+  // A buffer the backend keeps between calls, made anew only when it is too small or of the
+  // other kind: allocating (for host-visible memory also pinning and zeroing) the per-site
+  // layout's buffers cost 325 ms of 2,435 at 4096^2 on the H100, on every call.
+  Buffer& kept(std::unique_ptr<Buffer>& slot, VkDeviceSize bytes, bool host_visible) {
+    if (!slot || slot->size() < bytes || (slot->mapped() != nullptr) != host_visible) {
+      slot.reset();  // the old one goes first: both need not fit at once
+      slot = std::make_unique<Buffer>(*context_, bytes, host_visible);
+    }
+    return *slot;
+  }
+
+  // Where the star grid's sites are sorted into cells. On a GPU, on the device (bucket.comp):
+  // host-visible memory there is uncached, and the host's scattered writes into it were the
+  // slowest stage (532 ms at 4096^2 on the H100). On a CPU device (lavapipe), on the host: its
+  // counting sort writes the buffers in place, and took 17 ms at 10^6 where bucket.comp took
+  // 200 ms and mapping the ids back 190 ms (this VM, 2026-11-23). EXPANSE_VULKAN_BUCKET=host or
+  // =device overrides (the tests run both on lavapipe).
+  static bool bucket_on_device(bool cpu_device) {
+    const char* where = std::getenv("EXPANSE_VULKAN_BUCKET");
+    if (where && std::strcmp(where, "host") == 0) return false;
+    if (where && std::strcmp(where, "device") == 0) return true;
+    return !cpu_device;
+  }
+
+  // The host's counting sort (bucket_stars), straight into the star kernel's buffers when they
+  // are host-visible (in place), else into a staging buffer whose copies `rec` records (the
+  // staging buffer is returned: it must live until `rec` is submitted). Used on CPU devices,
+  // and where a cell is too crowded for the device's ranking (bucket.comp, MAX_CELL).
+  std::unique_ptr<Buffer> bucket_on_host(const GrowInput& input, int cells, Recording& rec,
+                                         Buffer& sites, Buffer& cell_start, Buffer& predecessor,
+                                         StarGrid& grid) {
+    const std::size_t n = std::size_t(input.sites.size());
+    const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    if (sites.mapped() && cell_start.mapped() && predecessor.mapped()) {
+      grid = bucket_stars(input, cells, static_cast<Point2*>(sites.mapped()),
+                          static_cast<std::int32_t*>(cell_start.mapped()),
+                          static_cast<std::int32_t*>(predecessor.mapped()));
+      return nullptr;
+    }
+    const VkDeviceSize o_cells = bytes_of(n, 16), o_pred = o_cells + bytes_of(cell_entries, 4);
+    auto staging = std::make_unique<Buffer>(*context_, o_pred + bytes_of(n, 4), true);
+    char* at = static_cast<char*>(staging->mapped());
+    grid = bucket_stars(input, cells, reinterpret_cast<Point2*>(at),
+                        reinterpret_cast<std::int32_t*>(at + o_cells),
+                        reinterpret_cast<std::int32_t*>(at + o_pred));
+    rec.copy(*staging, sites, bytes_of(n, 16), 0);
+    rec.copy(*staging, cell_start, bytes_of(cell_entries, 4), o_cells);
+    rec.copy(*staging, predecessor, bytes_of(n, 4), o_pred);
+    rec.barrier();
+    return staging;
+  }
+
+  // Device triangles (sorted ids) -> partial.triangles (SiteSet ids, room already made),
+  // checking every id: the host's twin of bucket.comp's restore pass, when the host bucketed.
+  static void restore_on_host(const StarGrid& g, const std::int32_t* raw, std::size_t count,
+                              PartialTriangulation& partial) {
     const std::size_t n = g.to_site.size();
     std::atomic<bool> bad{false};
     parallel_chunks(count, host_workers(count), [&](std::size_t begin, std::size_t end, unsigned) {
@@ -374,6 +525,16 @@ class VulkanBackend final : public Backend {
         }
     });
     if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
+  }
+
+  // Room for the whole triangulation in both output vectors (the seam stage appends in place),
+  // faulted in on all host threads and sized to it, so the read-back is one parallel copy.
+  static void prepare_output(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites) {
+    reserve_full_triangulation(partial, sites, hull_sites);
+    detail::prefault_capacity(partial.triangles);
+    detail::prefault_capacity(partial.neighbors);
+    partial.triangles.resize(partial.triangles.capacity());
+    partial.neighbors.resize(partial.neighbors.capacity());
   }
 
   void grow_stars(const GrowInput& input, GrowResult& result) {
@@ -392,6 +553,7 @@ class VulkanBackend final : public Backend {
     auto start = Clock::now();
     const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    const GridFrame frame(input.sites, cells);
     result.host_stages.push_back({"vulkan: grid", ms_since(start)});
 
     // Each triangle is emitted once and there are at most 2n - 5.
@@ -409,42 +571,91 @@ class VulkanBackend final : public Backend {
                       " texels in one texel buffer; device " + ctx.name() + " allows " +
                       std::to_string(ctx.limits().maxTexelBufferElements));
 
-    start = Clock::now();
-    Buffer sites(ctx, bytes_of(n, 16), in_place);
-    Buffer cell_start(ctx, bytes_of(cell_entries, 4), in_place);
-    Buffer predecessor(ctx, bytes_of(n, 4), in_place);
-    Buffer triangles(ctx, bytes_of(capacity, 12), in_place);
-    Buffer counters(ctx, 64, in_place);
-    Buffer stars(ctx, bytes_of(n, 4 * star_capacity), in_place);
-    Buffer site_info(ctx, bytes_of(n, 8), in_place);
-    std::unique_ptr<Buffer> neighbors, unresolved, upload, download;
-    VkDeviceSize o_neighbors = 0, o_counters = 0, o_unresolved = 0;
-    const VkDeviceSize cell_offset = sites.size(), pred_offset = cell_offset + cell_start.size();
-    if (!in_place) {
-      neighbors = std::make_unique<Buffer>(ctx, bytes_of(capacity, 12), false);
-      unresolved = std::make_unique<Buffer>(ctx, bytes_of(unresolved_capacity, 4), false);
-      upload = std::make_unique<Buffer>(ctx, pred_offset + predecessor.size(), true);
-      // Download layout: triangles, neighbours, counters, unresolved slots.
-      o_neighbors = triangles.size();
-      o_counters = o_neighbors + neighbors->size();
-      o_unresolved = o_counters + counters.size();
-      download = std::make_unique<Buffer>(ctx, o_unresolved + unresolved->size(), true);
-    }
-    result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
-
-    start = Clock::now();
-    char* in = static_cast<char*>(in_place ? nullptr : upload->mapped());
-    const StarGrid g = bucket_stars(
-        input, cells, reinterpret_cast<Point2*>(in_place ? sites.mapped() : in),
-        reinterpret_cast<std::int32_t*>(in_place ? cell_start.mapped() : in + cell_offset),
-        reinterpret_cast<std::int32_t*>(in_place ? predecessor.mapped() : in + pred_offset));
-    if (in_place) std::memset(counters.mapped(), 0, counters.size());
-    result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
-
     // On lavapipe one workgroup = one SIMD batch, so the loop cap (see loop_budget) is shared
     // by as few invocations as possible.
     const std::uint32_t wg =
         workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
+
+    const bool device_bucketing = bucket_on_device(cpu_device);
+    // Its kernels are compiled on first use only: CPU devices bucket on the host.
+    std::optional<DeviceBucketing> bucketing;
+    if (device_bucketing) bucketing.emplace(ctx, wg);
+    start = Clock::now();
+    // The star kernel's inputs: host-visible where the host buckets in place.
+    Buffer& sites = kept(kept_.sites, bytes_of(n, 16), in_place);
+    Buffer& cell_start = kept(kept_.cell_start, bytes_of(cell_entries, 4), in_place);
+    Buffer& predecessor = kept(kept_.predecessor, bytes_of(n, 4), in_place);
+    // Read by the host: in place on a CPU device, else downloaded.
+    Buffer& triangles = kept(kept_.triangles, bytes_of(capacity, 12), in_place);
+    Buffer& counters = kept(kept_.counters, 64, in_place);
+    Buffer& stars = kept(kept_.stars, bytes_of(n, 4 * star_capacity), in_place);
+    Buffer& site_info = kept(kept_.site_info, bytes_of(n, 8), in_place);
+    Buffer *neighbors = nullptr, *unresolved = nullptr, *upload = nullptr, *download = nullptr;
+    // Device bucketing: the inputs in SiteSet order, written by the host (in place on a CPU
+    // device, else staged), and buffers the device alone makes and reads.
+    Buffer *input_sites = nullptr, *input_predecessor = nullptr, *to_site = nullptr;
+    if (device_bucketing) {
+      input_sites = &kept(kept_.input_sites, bytes_of(n, 16), in_place);
+      input_predecessor = &kept(kept_.input_predecessor, bytes_of(n, 4), in_place);
+      to_site = &kept(kept_.to_site, bytes_of(n, 4), false);
+      bucketing->bind({input_sites, input_predecessor, &kept(kept_.cell_key, bytes_of(n, 4), false),
+                      &cell_start, &kept(kept_.cursor, bytes_of(cell_entries - 1, 4), false),
+                      &kept(kept_.unordered, bytes_of(n, 4), false), &sites, to_site,
+                      &kept(kept_.to_sorted, bytes_of(n, 4), false), &predecessor, &triangles,
+                      &counters,
+                      &kept(kept_.scan_sums, bucketing->scan_sums_bytes(cell_entries), false)});
+    }
+    // Download layout: triangles, neighbours, counters, unresolved slots, open slots.
+    const VkDeviceSize o_neighbors = bytes_of(capacity, 12), o_counters = 2 * o_neighbors,
+                       o_unresolved = o_counters + 64,
+                       o_open = o_unresolved + bytes_of(unresolved_capacity, 4);
+    // The device audits the adjacency where it has the triangles in SiteSet ids and the hull
+    // (device bucketing), and made the adjacency (GPU path): open slots, as many as unresolved.
+    const bool device_audit = device_bucketing && !in_place;
+    Buffer* open_slots = nullptr;
+    if (!in_place) {
+      neighbors = &kept(kept_.neighbors, bytes_of(capacity, 12), false);
+      unresolved = &kept(kept_.unresolved, bytes_of(unresolved_capacity, 4), false);
+      if (device_audit) open_slots = &kept(kept_.open_slots, bytes_of(unresolved_capacity, 4), false);
+      if (device_bucketing) upload = &kept(kept_.upload, bytes_of(n, 20), true);
+      download = &kept(kept_.download, o_open + bytes_of(unresolved_capacity, 4), true);
+    }
+    result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
+
+    // First submission: the sites into cells. Its one question for the host (was a cell too
+    // crowded to rank on the device?) is asked before the star kernel runs.
+    bool device_sorted = false;
+    if (device_bucketing) {
+      start = Clock::now();
+      char* staging = in_place ? nullptr : static_cast<char*>(upload->mapped());
+      copy_on_host_threads(in_place ? input_sites->mapped() : staging, input.sites.points.data(),
+                           bytes_of(n, 16));
+      copy_on_host_threads(in_place ? input_predecessor->mapped() : staging + bytes_of(n, 16),
+                           input.hull.predecessor.data(), bytes_of(n, 4));
+      result.host_stages.push_back({"vulkan: stage", ms_since(start)});
+
+      start = Clock::now();
+      Recording rec(ctx);
+      if (!in_place) {
+        rec.copy(*upload, *input_sites, bytes_of(n, 16), 0);
+        rec.copy(*upload, *input_predecessor, bytes_of(n, 4), bytes_of(n, 16));
+        rec.barrier();
+        rec.timestamp("vulkan: upload");
+      }
+      GridShape shape{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]}, cells};
+      bucketing->record_sort(rec, shape, n);
+      rec.timestamp("vulkan: bucket");
+      if (!in_place) {
+        rec.copy(counters, *download, counters.size(), 0, o_counters);
+        rec.barrier();
+      }
+      for (StageTime& stage : rec.submit()) result.device_stages.push_back(std::move(stage));
+      result.host_stages.push_back({"vulkan: bucket (submit + wait)", ms_since(start)});
+      const auto* words = static_cast<const std::uint32_t*>(
+          in_place ? counters.mapped() : static_cast<char*>(download->mapped()) + o_counters);
+      device_sorted = words[crowded_cell_counter] == 0;
+    }
+
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -460,24 +671,26 @@ class VulkanBackend final : public Backend {
     if (!in_place) {
       const std::uint32_t link_spec[] = {wg, star_capacity};
       links = &ctx.kernel("star_links", spirv::star_links(), 5, sizeof(LinkParams), link_spec);
-      Buffer* link_bindings[] = {&stars, &site_info, neighbors.get(), unresolved.get(), &counters};
+      Buffer* link_bindings[] = {&stars, &site_info, neighbors, unresolved, &counters};
       links->bind(link_bindings);
     }
 
     start = Clock::now();
     Recording rec(ctx);
-    if (!in_place) {
-      rec.copy(*upload, sites, sites.size(), 0);
-      rec.copy(*upload, cell_start, cell_start.size(), cell_offset);
-      rec.copy(*upload, predecessor, predecessor.size(), pred_offset);
-      rec.fill(counters, 0);
-      rec.barrier();
-      rec.timestamp("vulkan: upload");
+    StarGrid host_grid;  // when the host bucketed: its sorted id -> SiteSet id
+    std::unique_ptr<Buffer> host_bucketed;
+    if (!device_sorted) {
+      host_bucketed = bucket_on_host(input, cells, rec, sites, cell_start, predecessor, host_grid);
+      if (host_bucketed) rec.timestamp("vulkan: upload");
+      result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
+      start = Clock::now();
     }
+    rec.fill(counters, 0);
+    rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
     // on finding a better candidate.
-    StarParams params{{{g.origin[0], g.origin[1]}, {g.inv_width[0], g.inv_width[1]}, cells,
-                       std::int32_t(n), 0, std::int32_t(capacity)},
+    StarParams params{{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]},
+                       cells, std::int32_t(n), 0, std::int32_t(capacity)},
                       std::int32_t(std::clamp(48.0 / per_bucket, 4.0, 1.0e6)),
                       {0, 0, 0}};
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
@@ -497,45 +710,97 @@ class VulkanBackend final : public Backend {
       }
       rec.barrier();
       rec.timestamp("vulkan: links");
-      rec.copy(triangles, *download, triangles.size(), 0, 0);
-      rec.copy(*neighbors, *download, neighbors->size(), 0, o_neighbors);
+    }
+    // The triangles are in sorted ids; whoever bucketed maps them back to SiteSet ids.
+    if (device_sorted) {
+      bucketing->record_restore(rec, n, capacity);
+      rec.timestamp("vulkan: restore ids");
+    }
+    if (device_sorted && device_audit) {
+      record_audit(ctx, rec, wg, triangles, *neighbors, *input_predecessor, *open_slots, counters,
+                   capacity, unresolved_capacity);
+      rec.timestamp("vulkan: audit");
+    }
+    if (!in_place) {
+      rec.copy(triangles, *download, bytes_of(capacity, 12), 0, 0);
+      rec.copy(*neighbors, *download, bytes_of(capacity, 12), 0, o_neighbors);
       rec.copy(counters, *download, counters.size(), 0, o_counters);
-      rec.copy(*unresolved, *download, unresolved->size(), 0, o_unresolved);
+      rec.copy(*unresolved, *download, bytes_of(unresolved_capacity, 4), 0, o_unresolved);
+      if (open_slots) rec.copy(*open_slots, *download, bytes_of(unresolved_capacity, 4), 0, o_open);
       rec.barrier();
       rec.timestamp("vulkan: download");
     }
-    result.device_stages = rec.submit();
+    // While the device works, the host readies the output vectors (faulting in 805 MB at
+    // 4096^2 took the H100's host ~460 ms in the CUDA backend, done after the kernel).
+    auto& partial = result.partial;
+    std::vector<StageTime> device_stages;
+    std::exception_ptr device_failure;
+    std::thread waiter([&] {
+      try {
+        device_stages = rec.submit();
+      } catch (...) {
+        device_failure = std::current_exception();
+      }
+    });
+    try {
+      prepare_output(partial, n, input.hull.sites.size());
+    } catch (...) {
+      waiter.join();
+      throw;
+    }
+    waiter.join();
+    if (device_failure) std::rethrow_exception(device_failure);
+    for (StageTime& stage : device_stages) result.device_stages.push_back(std::move(stage));
     result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
 
     start = Clock::now();
     std::uint32_t count[16];
     const char* out = static_cast<const char*>(in_place ? nullptr : download->mapped());
     std::memcpy(count, in_place ? counters.mapped() : out + o_counters, sizeof(count));
-    if (count[2] != 0 || count[0] > capacity)
+    if (count[2] != 0 || count[0] > capacity || count[0] > partial.triangles.size())
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
-    // Room for the whole triangulation, so that the seam stage appends in place.
-    reserve_full_triangulation(result.partial, n, input.hull.sites.size());
-    finish_stars(g, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : download->mapped()),
-                 count[0], result.partial);
-    result.partial.deferred_expansions = count[1];
+    if (count[invalid_site_id_counter] != 0)
+      throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
+    static_assert(sizeof(partial.triangles[0]) == 12 && sizeof(partial.neighbors[0]) == 12);
+    if (device_sorted)
+      copy_on_host_threads(partial.triangles.data(), in_place ? triangles.mapped() : out,
+                           bytes_of(count[0], 12));
+    else
+      restore_on_host(host_grid, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : out),
+                      count[0], partial);
+    partial.triangles.resize(count[0]);
+    partial.deferred_expansions = count[1];
     result.iterations = 1;
     result.host_stages.push_back({"vulkan: read back", ms_since(start)});
 
     start = Clock::now();
     if (in_place) {
       link_stars(static_cast<const std::int32_t*>(stars.mapped()),
-                 static_cast<const std::int32_t*>(site_info.mapped()), n, result.partial);
+                 static_cast<const std::int32_t*>(site_info.mapped()), n, partial);
       result.host_stages.push_back({"vulkan: links (host)", ms_since(start)});
     } else if (count[5] == 0 && count[6] == 0) {
-      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
-      // Either way the adjacency is left empty, and the pipeline derives it.
-      auto& nbrs = result.partial.neighbors;
-      nbrs.resize(result.partial.triangles.size());
-      static_assert(sizeof(nbrs[0]) == 12);
-      std::memcpy(nbrs.data(), out + o_neighbors, nbrs.size() * 12);
+      partial.neighbors.resize(count[0]);
+      copy_on_host_threads(partial.neighbors.data(), out + o_neighbors, bytes_of(count[0], 12));
       const auto* slots = reinterpret_cast<const std::int32_t*>(out + o_unresolved);
-      pair_unresolved(std::vector<std::int32_t>(slots, slots + count[4]), result.partial);
+      const std::vector<std::int32_t> unresolved_slots(slots, slots + count[4]);
+      pair_unresolved(unresolved_slots, partial);
       result.host_stages.push_back({"vulkan: links (read back)", ms_since(start)});
+      if (device_sorted && device_audit && count[open_overflow_counter] == 0) {
+        // A failed device audit is final: the pipeline derives the adjacency itself (the host
+        // audit would find the same, after reading all of it).
+        start = Clock::now();
+        const auto* open = reinterpret_cast<const std::int32_t*>(out + o_open);
+        result.adjacency_audited =
+            count[bad_link_counter] == 0 &&
+            open_edges_check_out(std::vector<std::int32_t>(open, open + count[open_edge_counter]),
+                                 unresolved_slots, partial);
+        if (!result.adjacency_audited) partial.neighbors.clear();
+        result.host_stages.push_back({"vulkan: audit (open edges)", ms_since(start)});
+      }
+    } else {
+      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
+      // Either way the adjacency is left empty (its room kept), and the pipeline derives it.
+      partial.neighbors.clear();
     }
   }
 
@@ -856,6 +1121,13 @@ class VulkanBackend final : public Backend {
   }
 
   std::shared_ptr<Context> context_;
+  // The per-site layout's buffers, kept between calls (see kept()); destroyed before the
+  // context they belong to.
+  struct StarBuffers {
+    std::unique_ptr<Buffer> input_sites, input_predecessor, cell_key, cursor, unordered, to_sorted,
+        scan_sums, sites, cell_start, predecessor, to_site, triangles, counters, stars, site_info,
+        neighbors, unresolved, open_slots, upload, download;
+  } kept_;
 };
 
 }  // namespace
@@ -910,6 +1182,92 @@ void run_predicate_kernel(Context& ctx, std::span<const double> cases,
   std::memcpy(signs.data(), download.mapped(), signs.size() * 4);
   std::memcpy(eft.data(), static_cast<char*>(download.mapped()) + out_signs.size(),
               eft.size() * 8);
+}
+
+DeviceBuckets bucket_on_device(Context& ctx, const SiteSet& sites, const Hull& hull, int cells) {
+  std::lock_guard lock(ctx.mutex());
+  const std::size_t n = std::size_t(sites.size());
+  const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+  const std::uint32_t wg = 64;
+  DeviceBucketing bucketing(ctx, wg);
+  Buffer input_sites(ctx, bytes_of(n, 16), false), input_predecessor(ctx, bytes_of(n, 4), false);
+  Buffer cell_key(ctx, bytes_of(n, 4), false), cell_start(ctx, bytes_of(cell_entries, 4), false);
+  Buffer cursor(ctx, bytes_of(cell_entries, 4), false), unordered(ctx, bytes_of(n, 4), false);
+  Buffer sorted(ctx, bytes_of(n, 16), false), to_site(ctx, bytes_of(n, 4), false);
+  Buffer to_sorted(ctx, bytes_of(n, 4), false), predecessor(ctx, bytes_of(n, 4), false);
+  Buffer triangles(ctx, 16, false), counters(ctx, 64, false);
+  Buffer scan_sums(ctx, bucketing.scan_sums_bytes(cell_entries), false);
+  bucketing.bind({&input_sites, &input_predecessor, &cell_key, &cell_start, &cursor, &unordered,
+                  &sorted, &to_site, &to_sorted, &predecessor, &triangles, &counters, &scan_sums});
+  Buffer upload(ctx, bytes_of(n, 20), true);
+  std::memcpy(upload.mapped(), sites.points.data(), bytes_of(n, 16));
+  std::memcpy(static_cast<char*>(upload.mapped()) + bytes_of(n, 16), hull.predecessor.data(), bytes_of(n, 4));
+  // Download layout: sorted sites, cell starts, to_site, predecessor, counters.
+  const VkDeviceSize o_cells = bytes_of(n, 16), o_to_site = o_cells + bytes_of(cell_entries, 4),
+                     o_pred = o_to_site + bytes_of(n, 4), o_counters = o_pred + bytes_of(n, 4);
+  Buffer download(ctx, o_counters + 64, true);
+  Recording rec(ctx);
+  rec.copy(upload, input_sites, bytes_of(n, 16), 0);
+  rec.copy(upload, input_predecessor, bytes_of(n, 4), bytes_of(n, 16));
+  rec.barrier();
+  const GridFrame frame(sites, cells);
+  bucketing.record_sort(rec, {{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]}, cells}, n);
+  rec.copy(sorted, download, bytes_of(n, 16), 0, 0);
+  rec.copy(cell_start, download, bytes_of(cell_entries, 4), 0, o_cells);
+  rec.copy(to_site, download, bytes_of(n, 4), 0, o_to_site);
+  rec.copy(predecessor, download, bytes_of(n, 4), 0, o_pred);
+  rec.copy(counters, download, 64, 0, o_counters);
+  rec.barrier();
+  rec.submit();
+  const char* out = static_cast<const char*>(download.mapped());
+  DeviceBuckets b;
+  b.sites.assign(reinterpret_cast<const Point2*>(out), reinterpret_cast<const Point2*>(out) + n);
+  auto ints = [&](VkDeviceSize offset, std::size_t count) {
+    const auto* p = reinterpret_cast<const std::int32_t*>(out + offset);
+    return std::vector<std::int32_t>(p, p + count);
+  };
+  b.cell_start = ints(o_cells, cell_entries);
+  b.to_site = ints(o_to_site, n);
+  b.predecessor = ints(o_pred, n);
+  b.crowded = reinterpret_cast<const std::uint32_t*>(out + o_counters)[crowded_cell_counter] != 0;
+  return b;
+}
+
+bool audit_on_device(Context& ctx, const PartialTriangulation& partial, const Hull& hull) {
+  std::lock_guard lock(ctx.mutex());
+  const std::size_t count = partial.triangles.size();
+  if (partial.neighbors.size() != count || count == 0) return false;
+  const std::size_t sites = hull.predecessor.size(), open_capacity = count + 16;
+  static_assert(sizeof(partial.triangles[0]) == 12 && sizeof(partial.neighbors[0]) == 12);
+  Buffer triangles(ctx, bytes_of(count, 12), false), neighbors(ctx, bytes_of(count, 12), false);
+  Buffer predecessor(ctx, bytes_of(sites, 4), false), open_slots(ctx, bytes_of(open_capacity, 4), false);
+  Buffer counters(ctx, 64, false);
+  const VkDeviceSize o_neighbors = bytes_of(count, 12), o_pred = 2 * o_neighbors,
+                     o_counters = o_pred + bytes_of(sites, 4);
+  Buffer upload(ctx, o_counters + 64, true);
+  char* in = static_cast<char*>(upload.mapped());
+  std::memcpy(in, partial.triangles.data(), bytes_of(count, 12));
+  std::memcpy(in + o_neighbors, partial.neighbors.data(), bytes_of(count, 12));
+  std::memcpy(in + o_pred, hull.predecessor.data(), bytes_of(sites, 4));
+  std::uint32_t words[16] = {std::uint32_t(count)};
+  std::memcpy(in + o_counters, words, sizeof(words));
+  Buffer download(ctx, 64 + bytes_of(open_capacity, 4), true);
+  Recording rec(ctx);
+  rec.copy(upload, triangles, bytes_of(count, 12), 0);
+  rec.copy(upload, neighbors, bytes_of(count, 12), o_neighbors);
+  rec.copy(upload, predecessor, bytes_of(sites, 4), o_pred);
+  rec.copy(upload, counters, 64, o_counters);
+  rec.barrier();
+  record_audit(ctx, rec, 64, triangles, neighbors, predecessor, open_slots, counters, count, open_capacity);
+  rec.copy(counters, download, 64, 0, 0);
+  rec.copy(open_slots, download, bytes_of(open_capacity, 4), 0, 64);
+  rec.barrier();
+  rec.submit();
+  std::memcpy(words, download.mapped(), sizeof(words));
+  if (words[bad_link_counter] != 0 || words[open_overflow_counter] != 0) return false;
+  const auto* open = reinterpret_cast<const std::int32_t*>(static_cast<char*>(download.mapped()) + 64);
+  return open_edges_check_out(std::vector<std::int32_t>(open, open + words[open_edge_counter]), {},
+                              partial);
 }
 
 std::string eft_self_test(Context& ctx) {

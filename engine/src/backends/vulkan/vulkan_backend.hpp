@@ -7,6 +7,10 @@
 #include <vector>
 
 #include "backends/vulkan/vk_context.hpp"
+#include "expanse/types.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "seam/partial_triangulation.hpp"
 
 namespace expanse::detail {
 class Backend;
@@ -25,6 +29,23 @@ std::unique_ptr<Backend> make_backend_on(std::shared_ptr<Context> context);
 /// signs: 8 ints per case; eft: 4 doubles per case (see the shader).
 void run_predicate_kernel(Context& context, std::span<const double> cases,
                           std::vector<std::int32_t>& signs, std::vector<double>& eft);
+
+/// The per-site layout's bucketing on the device alone (shaders/bucket.comp, scan.comp): the
+/// sites sorted into a cells x cells grid over their bounding box, for tests to compare with
+/// the host's counting sort. crowded: a cell held too many sites to rank (results then void).
+struct DeviceBuckets {
+  std::vector<Point2> sites;              // sorted by cell, row-major; SiteSet order within a cell
+  std::vector<std::int32_t> cell_start;   // cells^2 + 1
+  std::vector<std::int32_t> to_site;      // sorted id -> SiteSet id
+  std::vector<std::int32_t> predecessor;  // hull predecessors in sorted ids
+  bool crowded = false;
+};
+DeviceBuckets bucket_on_device(Context& context, const SiteSet& sites, const Hull& hull, int cells);
+
+/// The per-site layout's device audit on its own: shaders/audit.comp over `partial` (SiteSet
+/// ids, with neighbours) and the host's check of the open edges it lists. True when both pass,
+/// i.e. when the pipeline may skip its host audit (seam/adjacency_audit.cpp's checks).
+bool audit_on_device(Context& context, const PartialTriangulation& partial, const Hull& hull);
 
 /// Start-up check that the device evaluates the error-free transformations exactly (no fma
 /// contraction, correct rounding). Returns an empty string, or what went wrong.

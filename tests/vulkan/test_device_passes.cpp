@@ -1,0 +1,264 @@
+// The per-site layout's device passes that replace host stages: bucketing (shaders/bucket.comp,
+// scan.comp) must give exactly the host's counting sort (same cells, SiteSet order within a
+// cell), and the backend the same triangles and deferrals either way (the output order is the
+// star kernel's atomics' and varies from run to run); the adjacency audit (shaders/audit.comp
+// and the host's open-edge check) must pass a correct adjacency and catch broken ones.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "backends/vulkan/vulkan_backend.hpp"
+#include "expanse/triangulate.hpp"
+#include "harness.hpp"
+#include "hull/convex_hull.hpp"
+#include "input/site_set.hpp"
+#include "seam/adjacency_audit.hpp"
+
+namespace expanse::vulkan_tests {
+namespace {
+
+std::vector<Triangle> canonical(std::vector<Triangle> triangles) {
+  for (Triangle& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+// The host's counting sort, written plainly: cell = clamp(floor((x - origin) * inv_width)),
+// the rule of shaders/include/cells.glsl (this file builds with -ffp-contract=off).
+detail::vk::DeviceBuckets bucket_reference(const detail::SiteSet& sites, const detail::Hull& hull, int cells) {
+  const std::size_t n = std::size_t(sites.size());
+  const double wx = sites.bounds.max_x - sites.bounds.min_x, wy = sites.bounds.max_y - sites.bounds.min_y;
+  const double ix = wx > 0 ? double(cells) / wx : 0.0, iy = wy > 0 ? double(cells) / wy : 0.0;
+  auto coord = [&](double v, double origin, double inv) {
+    const double t = (v - origin) * inv;
+    return int(std::clamp(std::floor(t), 0.0, double(cells - 1)));
+  };
+  std::vector<std::int32_t> cell(n);
+  detail::vk::DeviceBuckets b;
+  b.cell_start.assign(std::size_t(cells) * std::size_t(cells) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point2& p = sites.points[i];
+    cell[i] = coord(p.y, sites.bounds.min_y, iy) * cells + coord(p.x, sites.bounds.min_x, ix);
+    ++b.cell_start[std::size_t(cell[i]) + 1];
+  }
+  for (std::size_t c = 1; c < b.cell_start.size(); ++c) b.cell_start[c] += b.cell_start[c - 1];
+  std::vector<std::int32_t> next(b.cell_start.begin(), b.cell_start.end() - 1), to_sorted(n);
+  b.sites.resize(n);
+  b.to_site.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t at = next[std::size_t(cell[i])]++;
+    b.sites[std::size_t(at)] = sites.points[i];
+    b.to_site[std::size_t(at)] = std::int32_t(i);
+    to_sorted[i] = at;
+  }
+  b.predecessor.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int32_t p = hull.predecessor[std::size_t(b.to_site[k])];
+    b.predecessor[k] = p < 0 ? -1 : to_sorted[std::size_t(p)];
+  }
+  return b;
+}
+
+void check_bucketing(const std::string& name, const std::vector<Point2>& points, int cells) {
+  const detail::SiteSet sites = detail::prepare_sites(points);
+  const detail::Hull hull = detail::convex_hull(sites);
+  auto context = detail::vk::shared_context(-1);
+  const detail::vk::DeviceBuckets device = detail::vk::bucket_on_device(*context, sites, hull, cells);
+  const detail::vk::DeviceBuckets host = bucket_reference(sites, hull, cells);
+  // A cell of more than 4096 sites (bucket.comp's MAX_CELL) must be reported, not ranked.
+  const bool crowded = std::adjacent_find(host.cell_start.begin(), host.cell_start.end(),
+                                          [](int a, int b) { return b - a > 4096; }) != host.cell_start.end();
+  VK_CHECK_THAT(device.crowded == crowded, "%s, %d cells per side: crowded %d, expected %d",
+                name.c_str(), cells, int(device.crowded), int(crowded));
+  if (crowded) {
+    std::printf("  %-40s %5d cells per side: a crowded cell, reported\n", name.c_str(), cells);
+    return;
+  }
+  VK_CHECK_THAT(device.cell_start == host.cell_start, "%s, %d cells per side: cell starts differ",
+                name.c_str(), cells);
+  VK_CHECK_THAT(device.to_site == host.to_site, "%s, %d cells per side: order differs", name.c_str(), cells);
+  VK_CHECK_THAT(device.sites == host.sites, "%s, %d cells per side: sorted sites differ", name.c_str(), cells);
+  VK_CHECK_THAT(device.predecessor == host.predecessor, "%s, %d cells per side: predecessors differ",
+                name.c_str(), cells);
+  std::printf("  %-40s %5d cells per side: device bucketing = host counting sort\n", name.c_str(), cells);
+}
+
+bool has_stage(const detail::GrowResult& r, const std::string& name) {
+  return std::any_of(r.host_stages.begin(), r.host_stages.end(),
+                     [&](const StageTime& s) { return s.name == name; });
+}
+
+detail::GrowResult grow_with(const detail::SiteSet& sites, const detail::Hull& hull,
+                             const char* bucket, bool staged) {
+  setenv("EXPANSE_VULKAN_BUCKET", bucket, 1);
+  setenv("EXPANSE_VULKAN_STAGED", staged ? "1" : "0", 1);
+  const Layout layout{};
+  return detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
+}
+
+// Host and device bucketing, on both paths: the same output vectors, element for element.
+// `crowded`: a cell holds more sites than the device ranks, so the device path must fall back
+// to the host's bucketing.
+void check_same_output(const std::string& name, const std::vector<Point2>& points, bool crowded) {
+  const detail::SiteSet sites = detail::prepare_sites(points);
+  const detail::Hull hull = detail::convex_hull(sites);
+  for (bool staged : {false, true}) {
+    const char* path = staged ? "staged" : "in place";
+    const detail::GrowResult host = grow_with(sites, hull, "host", staged);
+    const detail::GrowResult device = grow_with(sites, hull, "device", staged);
+    VK_CHECK_THAT(has_stage(device, "vulkan: bucket (submit + wait)"),
+                  "%s, %s: the device did not bucket", name.c_str(), path);
+    VK_CHECK_THAT(has_stage(device, "vulkan: bucket") == crowded,
+                  "%s, %s: host fallback %s", name.c_str(), path, crowded ? "expected" : "unexpected");
+    VK_CHECK_THAT(canonical(host.partial.triangles) == canonical(device.partial.triangles),
+                  "%s, %s: %zu triangles bucketed on the host, %zu on the device, or others",
+                  name.c_str(), path, host.partial.triangles.size(), device.partial.triangles.size());
+    VK_CHECK_THAT(device.partial.neighbors.empty() ||
+                      detail::adjacency_is_trustworthy(device.partial, hull),
+                  "%s, %s: the adjacency fails the host audit", name.c_str(), path);
+    VK_CHECK_THAT(host.partial.deferred_expansions == device.partial.deferred_expansions,
+                  "%s, %s: %zu deferred sites on the host's grid, %zu on the device's", name.c_str(),
+                  path, host.partial.deferred_expansions, device.partial.deferred_expansions);
+    if (device.adjacency_audited)
+      VK_CHECK_THAT(detail::adjacency_is_trustworthy(device.partial, hull),
+                    "%s, %s: the device audit passed an adjacency the host audit rejects",
+                    name.c_str(), path);
+    // The staged path audits on the device when it bucketed there, unless its list of open
+    // edges overflowed (inputs where most sites defer).
+    if (staged && !crowded && device.partial.deferred_expansions * 8 < sites.size())
+      VK_CHECK_THAT(device.adjacency_audited, "%s, %s: the device did not audit", name.c_str(), path);
+    std::printf("  %-40s %-9s triangles %7zu  deferred %5zu  audited on the device: %s\n",
+                name.c_str(), path, device.partial.triangles.size(),
+                device.partial.deferred_expansions, device.adjacency_audited ? "yes" : "no");
+  }
+  unsetenv("EXPANSE_VULKAN_BUCKET");
+  unsetenv("EXPANSE_VULKAN_STAGED");
+}
+
+// A CPU triangulation as a partial one in SiteSet ids, with its adjacency.
+struct Reference {
+  detail::SiteSet sites;
+  detail::Hull hull;
+  detail::PartialTriangulation partial;
+};
+
+Reference reference(const std::vector<Point2>& points) {
+  Reference r{detail::prepare_sites(points), {}, {}};
+  r.hull = detail::convex_hull(r.sites);
+  Options cpu;
+  cpu.backend = BackendKind::cpu;
+  const Mesh mesh = triangulate(points, cpu);
+  std::vector<std::int32_t> site_of(points.size(), -1);
+  for (std::size_t s = 0; s < r.sites.input_index.size(); ++s)
+    site_of[std::size_t(r.sites.input_index[s])] = std::int32_t(s);
+  for (const Triangle& t : mesh.triangles)
+    r.partial.triangles.push_back({site_of[std::size_t(t[0])], site_of[std::size_t(t[1])],
+                                   site_of[std::size_t(t[2])]});
+  r.partial.neighbors = mesh.neighbors;
+  return r;
+}
+
+// Slot k of triangle t whose neighbour is `u`, or -1.
+int slot_towards(const detail::PartialTriangulation& p, std::size_t t, std::int32_t u) {
+  for (int k = 0; k < 3; ++k)
+    if (p.neighbors[t][std::size_t(k)] == u) return k;
+  return -1;
+}
+
+}  // namespace
+
+void test_device_passes() {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  {
+    // Grids from one (crowded) cell to more cells than sites; the largest scans three levels
+    // of tiles (1024 per tile with 256-invocation workgroups).
+    std::vector<Point2> p(200000);
+    for (auto& q : p) q = {unit(rng), unit(rng)};
+    for (int cells : {1, 10, 316, 1500}) check_bucketing("uniform 200000", p, cells);
+    std::vector<Point2> g(30000);
+    for (auto& q : g) q = {normal(rng), normal(rng)};
+    for (int cells : {3, 20, 200}) check_bucketing("gaussian 30000", g, cells);
+  }
+  {
+    std::vector<Point2> p(70000);
+    for (auto& q : p) q = {unit(rng), unit(rng)};
+    check_same_output("uniform 70000", p, false);
+  }
+  {
+    std::vector<Point2> p(40000);
+    for (auto& q : p) q = {normal(rng), normal(rng)};
+    check_same_output("gaussian 40000", p, false);
+  }
+  {
+    std::vector<Point2> p;
+    for (int x = 0; x < 150; ++x)
+      for (int y = 0; y < 150; ++y) p.push_back({double(x), double(y)});
+    check_same_output("grid 150x150 (cocircular)", p, false);
+  }
+  {
+    // 5000 sites within 1e-9 of one point and three far away: the grid is sized by the
+    // typical site's density but capped at 16 cells per site, so one cell holds the cluster.
+    std::vector<Point2> p;
+    for (int k = 0; k < 5000; ++k) p.push_back({0.5 + 1e-9 * unit(rng), 0.5 + 1e-9 * unit(rng)});
+    p.push_back({0.0, 0.0});
+    p.push_back({1.0, 0.1});
+    p.push_back({0.2, 1.0});
+    check_same_output("5000 in one cell + 3 (host fallback)", p, true);
+  }
+
+  // The device audit on a correct adjacency, on a partial one (triangles left to the seam), and
+  // on three ways of breaking it.
+  std::vector<Point2> points(5000);
+  for (auto& q : points) q = {unit(rng), unit(rng)};
+  const Reference ref = reference(points);
+  auto context = detail::vk::shared_context(-1);
+  const auto& tris = ref.partial.triangles;
+  VK_CHECK_THAT(detail::adjacency_is_trustworthy(ref.partial, ref.hull), "reference adjacency");
+  VK_CHECK_THAT(detail::vk::audit_on_device(*context, ref.partial, ref.hull),
+                "the device audit rejects a correct adjacency");
+  {
+    detail::PartialTriangulation partial = ref.partial;  // the last 20 triangles left to the seam
+    const std::int32_t kept = std::int32_t(tris.size() - 20);
+    partial.triangles.resize(std::size_t(kept));
+    partial.neighbors.resize(std::size_t(kept));
+    for (auto& row : partial.neighbors)
+      for (auto& u : row)
+        if (u >= kept) u = no_neighbor;
+    VK_CHECK_THAT(detail::vk::audit_on_device(*context, partial, ref.hull),
+                  "the device audit rejects a partial triangulation's adjacency");
+  }
+  // An interior triangle and one of its neighbours.
+  std::size_t t = 0;
+  while (std::count(ref.partial.neighbors[t].begin(), ref.partial.neighbors[t].end(), no_neighbor) > 0) ++t;
+  const std::int32_t u = ref.partial.neighbors[t][0];
+  {
+    detail::PartialTriangulation broken = ref.partial;  // a link to the wrong triangle
+    broken.neighbors[t][0] = ref.partial.neighbors[t][1];
+    VK_CHECK_THAT(!detail::vk::audit_on_device(*context, broken, ref.hull),
+                  "the device audit passes a link to the wrong triangle");
+  }
+  {
+    detail::PartialTriangulation broken = ref.partial;  // one side of an edge unlinked
+    broken.neighbors[t][0] = no_neighbor;
+    VK_CHECK_THAT(!detail::vk::audit_on_device(*context, broken, ref.hull),
+                  "the device audit passes a one-sided link");
+  }
+  {
+    detail::PartialTriangulation broken = ref.partial;  // an edge marked open from both sides
+    broken.neighbors[t][0] = no_neighbor;
+    broken.neighbors[std::size_t(u)][std::size_t(slot_towards(ref.partial, std::size_t(u), std::int32_t(t)))] =
+        no_neighbor;
+    VK_CHECK_THAT(!detail::vk::audit_on_device(*context, broken, ref.hull),
+                  "the device audit passes an edge open on both sides with triangles across");
+    VK_CHECK_THAT(!detail::adjacency_is_trustworthy(broken, ref.hull), "host audit, same case");
+  }
+  std::printf("  device audit: correct, partial and three broken adjacencies judged as the host's\n");
+}
+
+}  // namespace expanse::vulkan_tests
