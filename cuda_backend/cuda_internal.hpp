@@ -87,6 +87,8 @@ struct RunCounters {
   std::uint64_t max_cells_per_site = 0;     ///< the longest star's bucket visits (per-site layout)
   std::uint64_t sites_over_4096_cells = 0;  ///< stars that visited more than 4096 buckets
   std::uint64_t sites_over_budget = 0;      ///< stars deferred because their search ran away
+  std::uint64_t open_pairs_linked = 0;      ///< edges between two deferred sites' triangles, linked
+  bool adjacency_audited = false;           ///< the device audit passed (the pipeline keeps it)
 };
 RunCounters& last_run_counters();
 

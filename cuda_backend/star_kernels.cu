@@ -203,10 +203,11 @@ __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::u
 /// crosses the bus: every link leads to a triangle that holds the same edge the other way round
 /// and links back across it; a missing link must be a hull edge (pred[] is in local ids, the
 /// triangles in site ids) or the seam's. result[0] counts bad links, result[1] open edges inside
-/// the hull; with `open_keys`, those edges are also listed (x << 32 | y, result[2] counting).
+/// the hull; with `open_keys`, those edges are also listed (x << 32 | y, result[2] counting),
+/// and where they are (3 t + k: triangle t's link k) in open_slots.
 /// Random reads of 805 MB take the host's cores ~300 ms at 4096^2; the device's memory, 0.4 ms.
 __global__ void audit_kernel(const int* triangles, const int* neighbors, int count, const int* rank, const int* pred,
-                             unsigned int* result, std::uint64_t* open_keys) {
+                             unsigned int* result, std::uint64_t* open_keys, int* open_slots) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= count) return;
   unsigned bad = 0, open = 0;
@@ -217,8 +218,11 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
     if (u == -1) {
       if (pred[rank[y]] != rank[x]) {  // not x->y on the hull (y's predecessor is x)
         ++open;
-        if (open_keys)
-          open_keys[atomicAdd(result + 2, 1u)] = (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
+        if (open_keys) {
+          const unsigned at = atomicAdd(result + 2, 1u);
+          open_keys[at] = (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
+          open_slots[at] = 3 * t + k;
+        }
       }
       continue;
     }
@@ -236,13 +240,17 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
   if (open) atomicAdd(result + 1, open);
 }
 
-/// The audit's second check: an edge marked open must have no triangle across it. Such a
-/// triangle would hold the reverse edge, and its link there could lead nowhere but back, so it
-/// would mark the reverse open too (seam/adjacency_audit.cpp): count open edges whose reverse
-/// is open as well (`sorted` holds every open edge, sorted).
-__global__ void open_pairs_kernel(const std::uint64_t* sorted, unsigned count, unsigned int* result) {
+/// Open edges in pairs: x->y open in one triangle and y->x in another. Both triangles are made
+/// (every triangle emitted is Delaunay), but the sites whose stars would have linked them
+/// deferred, so emit_kernel left both links out. They are neighbours: link them, both ways.
+/// `sorted` holds every open edge, sorted, and `slots` where each is. result[3] counts the links
+/// made; result[0] an edge listed twice (two triangles with the same edge the same way round:
+/// a broken triangulation, which the pipeline must not trust).
+__global__ void link_open_pairs_kernel(const std::uint64_t* sorted, const int* slots, unsigned count, int* neighbors,
+                                       unsigned int* result) {
   const unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= count) return;
+  if (k + 1 < count && sorted[k + 1] == sorted[k]) atomicAdd(result, 1u);
   const std::uint64_t reverse = (sorted[k] << 32) | (sorted[k] >> 32);
   unsigned lo = 0, hi = count;
   while (lo < hi) {
@@ -250,16 +258,20 @@ __global__ void open_pairs_kernel(const std::uint64_t* sorted, unsigned count, u
     if (sorted[mid] < reverse) lo = mid + 1;
     else hi = mid;
   }
-  if (lo < count && sorted[lo] == reverse) atomicAdd(result + 3, 1u);
+  if (lo < count && sorted[lo] == reverse) {
+    neighbors[slots[k]] = slots[lo] / 3;
+    atomicAdd(result + 3, 1u);
+  }
 }
 
 constexpr int kThreads = 256;
 
-/// The first pass's work budget (WalkPass). The single pass's time fell with the budget as the
-/// heavy sites' tail shrank (H100, 2026-11-23, 4096^2 uniform star kernel: 167 ms at 2^16, 133
-/// at 2^15, 120 at 2^14, 106 at 2^12), and what the first pass leaves, the warps of the second
-/// walk 32 candidates at a time.
-constexpr unsigned kFirstPassBudget = 1u << 12;
+/// The first pass's work budget (WalkPass). What it leaves, the warps of the second pass walk 32
+/// candidates at a time, so the smaller the better while the second pass stays short. Measured
+/// on the H100 in one run (2026-11-23, star kernel, 4096^2 / 512^2): one pass 154 / 13.7 ms
+/// uniform, 506 / 30.2 kuzmin; first budget 2^12: 105 / 11.4, 161 / 18.7; 2^10: 100 / 8.7,
+/// 147 / 6.0 (cuda_backend/results/2026-11-23-h100-s4, call 3).
+constexpr unsigned kFirstPassBudget = 1u << 10;
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
 }  // namespace
@@ -463,12 +475,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   // The audit, on the device. Open edges inside the hull (left by deferred sites) are rare:
   // counted first, then listed, sorted and matched against their reverses.
   bool audited = false;
+  std::size_t open_pairs_linked = 0;
   if (with_neighbors && triangle_count > 0) {
     timer.begin("audit");
     EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
     audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
         d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-        d_counters.get(), nullptr);
+        d_counters.get(), nullptr, nullptr);
     EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaMemcpyAsync(&words[8], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                  stream));
@@ -476,23 +489,38 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
     const unsigned bad = words[8], open = words[9];
     audited = bad == 0 && open == 0;
     if (bad == 0 && open > 0) {
+      // Open edges inside the hull: listed with where they are, sorted, and the pairs linked.
       DeviceArray<std::uint64_t> d_open(open, stream), d_open_sorted(open, stream);
+      DeviceArray<int> d_slots(open, stream), d_slots_sorted(open, stream);
       audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
           d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-          d_counters.get(), d_open.get());
+          d_counters.get(), d_open.get(), d_slots.get());
       EXPANSE_CUDA(cudaGetLastError());
       std::size_t bytes = 0;
-      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, bytes, d_open.get(), d_open_sorted.get(),
-                                                  static_cast<int>(open), 0, 64, stream));
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, d_open.get(), d_open_sorted.get(), d_slots.get(),
+                                                   d_slots_sorted.get(), static_cast<int>(open), 0, 64, stream));
       DeviceArray<unsigned char> d_sort_temp(bytes, stream);
-      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_sort_temp.get(), bytes, d_open.get(), d_open_sorted.get(),
-                                                  static_cast<int>(open), 0, 64, stream));
-      open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(d_open_sorted.get(), open, d_counters.get());
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_sort_temp.get(), bytes, d_open.get(), d_open_sorted.get(),
+                                                   d_slots.get(), d_slots_sorted.get(), static_cast<int>(open), 0, 64,
+                                                   stream));
+      EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
+      link_open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(d_open_sorted.get(), d_slots_sorted.get(), open,
+                                                                       d_neighbors.get(), d_counters.get());
       EXPANSE_CUDA(cudaGetLastError());
-      EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get() + 3, sizeof(unsigned int), cudaMemcpyDeviceToHost,
+      // The audit again, over the linked adjacency: what is open now must be the unpaired rest.
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
+                                   stream));
+      EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
+      audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
+          d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
+          d_counters.get(), nullptr, nullptr);
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[14], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
-      audited = words[10] == 0;
+      const unsigned duplicates = words[10], linked = words[13], bad_after = words[14], open_after = words[15];
+      audited = duplicates == 0 && bad_after == 0 && open_after + linked == open;
+      open_pairs_linked = linked / 2;
     }
     timer.end();
   }
@@ -508,12 +536,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
 
   partial.deferred_expansions = sizes[1];
   // The device ran the host audit's checks: a failure there is final (the host would find the
-  // same, at ~300 ms for 4096^2 kuzmin), and the pipeline derives the adjacency instead. Open
-  // edges open from both sides arise when both ends of an edge deferred.
+  // same, at ~300 ms for 4096^2 kuzmin), and the pipeline derives the adjacency instead. Edges
+  // open from both sides (both ends deferred) were linked above: before, they failed the audit
+  // and kuzmin 4096^2 spent ~600 ms deriving adjacency on the host for 195 deferred sites.
   if (with_neighbors && triangle_count > 0 && !audited) partial.neighbors.clear();
   result.adjacency_audited = audited;
   RunCounters& counters = last_run_counters();
   counters = {};
+  counters.open_pairs_linked = open_pairs_linked;
+  counters.adjacency_audited = audited;
   std::uint64_t predicates = 0;
   std::memcpy(&predicates, &sizes[3], sizeof predicates);
   counters.predicates = predicates;

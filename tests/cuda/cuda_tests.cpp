@@ -22,6 +22,7 @@
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
 #include "predicates/predicates.hpp"
+#include "seam/adjacency_audit.hpp"
 
 using namespace expanse;
 using namespace expanse::detail;
@@ -264,6 +265,33 @@ int main(int argc, char** argv) {
     else
       std::printf("ok   work counters, uniform n=20000: max work per site %llu\n",
                   static_cast<unsigned long long>(c.max_cells_per_site));
+  }
+
+  // Deferred sites leave edges open from both sides (both ends deferred): the device links such
+  // pairs, and the adjacency it keeps must be exactly what the host audit accepts.
+  {
+    const std::string test = "open pairs linked, work budget 150, uniform n=20000";
+    setenv("EXPANSE_CUDA_BUDGET", "150", 1);
+    setenv("EXPANSE_CUDA_FIRST_BUDGET", "0", 1);
+    try {
+      SiteSet sites = prepare_sites(generate_points("uniform", 20000, 6));
+      Hull hull = convex_hull(sites);
+      GrowResult r = backend->grow(GrowInput{sites, hull, per_site});
+      const auto& c = detail::cuda::last_run_counters();
+      const int before = failures;
+      check_partial(test, sites, hull, r.partial, false, false);
+      if (r.partial.deferred_expansions == 0) fail(test, "nothing deferred: the case tests nothing");
+      if (c.open_pairs_linked == 0) fail(test, "no open pair linked");
+      if (!r.adjacency_audited || r.partial.neighbors.empty()) fail(test, "device audit failed after linking");
+      if (!detail::adjacency_is_trustworthy(r.partial, hull)) fail(test, "host audit rejects the linked adjacency");
+      if (failures == before)
+        std::printf("ok   %s: %zu deferred, %llu pairs linked\n", test.c_str(), r.partial.deferred_expansions,
+                    static_cast<unsigned long long>(c.open_pairs_linked));
+    } catch (const Error& e) {
+      fail(test, std::string("threw ") + e.what());
+    }
+    unsetenv("EXPANSE_CUDA_BUDGET");
+    unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
   }
 
   if (!small) {
