@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cmath>
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <string>
 
@@ -135,6 +136,17 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   });
   // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
   // by (code, input index).
+  //
+  // 2b. Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
+  // the box, as in heavy-tailed inputs, and duplicates) are put in (x, y) order, stably, so
+  // that equal points stand side by side, their smallest input index first. Looking for an
+  // equal point through a run in input order cost its length squared (2M kuzmin sites on the
+  // 2-core VM: 727 ms against 235 after, both under the same load; 4096^2 on the H100's host:
+  // 1,486 against 383 ms), and more still for many distinct points crowded into one run. A run
+  // has one code, so it lies in one bucket: a bucket sorted on one thread orders its runs and
+  // counts its repeated points while it is in cache (three passes over all sites fewer than
+  // finding runs afterwards: 4096^2 uniform on the 2-core VM, prepare 1,211 -> see commit).
+  const auto point_less = [](const Point2& a, const Point2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
   const std::size_t large = std::max<std::size_t>(std::size_t{1} << 16, n / (4 * host_threads()));
   std::vector<std::size_t> small, big;
   for (std::size_t d = 0; d < buckets; ++d) {
@@ -142,6 +154,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     if (m > large) big.push_back(d);
     else if (m > 1) small.push_back(d);
   }
+  std::atomic<std::size_t> repeated{0};  // positions equal to the point before them
   parallel_tasks(small.size(), [&](std::size_t task) {
     const std::size_t lo = bucket_start[small[task]], m = bucket_start[small[task] + 1] - lo;
     thread_local std::vector<std::uint64_t> codes, codes_scratch;
@@ -157,11 +170,35 @@ SiteSet prepare_sites(std::span<const Point2> input) {
       position[j] = static_cast<std::int32_t>(j);
     }
     sort_by_code_sequential(codes.data(), position.data(), codes_scratch.data(), position_scratch.data(), m, below);
+    std::size_t repeats_here = 0;
+    for (std::size_t k = 0; k < m;) {
+      std::size_t last = k + 1;
+      while (last < m && codes[last] == codes[k]) ++last;
+      if (last - k >= 2) {  // positions in the run are in input order: ties keep it
+        std::sort(position.begin() + static_cast<std::ptrdiff_t>(k), position.begin() + static_cast<std::ptrdiff_t>(last),
+                  [&](std::int32_t a, std::int32_t b) {
+                    return point_less(points[a], points[b]) || (!point_less(points[b], points[a]) && a < b);
+                  });
+        for (std::size_t j = k + 1; j < last; ++j) {
+          const Point2 &before = points[position[j - 1]], &here = points[position[j]];
+          repeats_here += before.x == here.x && before.y == here.y;
+        }
+      }
+      k = last;
+    }
+    if (repeats_here > 0) repeated.fetch_add(repeats_here, std::memory_order_relaxed);
     for (std::size_t k = 0; k < m; ++k) {
       sites.points[lo + k] = points[position[k]];
       sites.input_index[lo + k] = index[position[k]];
     }
   });
+  auto& sorted = sites.points;
+  const auto same_code = [&](std::size_t j, std::size_t k) {
+    return quantiser.x(sorted[j].x) == quantiser.x(sorted[k].x) && quantiser.y(sorted[j].y) == quantiser.y(sorted[k].y);
+  };
+  const auto repeats_previous = [&](std::size_t k) {
+    return k > 0 && sorted[k - 1].x == sorted[k].x && sorted[k - 1].y == sorted[k].y;
+  };
   for (const std::size_t d : big) {  // skewed inputs: a bucket too large for one thread
     const std::size_t lo = bucket_start[d], m = bucket_start[d + 1] - lo;
     HostVector<std::uint64_t> codes(m);
@@ -182,48 +219,47 @@ SiteSet prepare_sites(std::span<const Point2> input) {
         sites.input_index[lo + k] = index[position[k]];
       }
     });
-  }
-
-  // 2b. Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
-  // the box, as in heavy-tailed inputs, and duplicates) are put in (x, y) order, stably, so
-  // that equal points stand side by side, their smallest input index first. Looking for an
-  // equal point through a run in input order cost its length squared (2M kuzmin sites on the
-  // 2-core VM: 727 ms against 235 after, both under the same load; 4096^2 on the H100's host:
-  // 1,486 against 383 ms), and more still for many distinct points crowded into one run. Runs may cross
-  // chunk boundaries: their starts are marked first, then each chunk sorts the runs that start
-  // in it (and only it touches them).
-  auto& sorted = sites.points;
-  const auto same_code = [&](std::size_t j, std::size_t k) {
-    return quantiser.x(sorted[j].x) == quantiser.x(sorted[k].x) && quantiser.y(sorted[j].y) == quantiser.y(sorted[k].y);
-  };
-  HostVector<unsigned char> run_start(n);
-  parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) run_start[k] = k == 0 || !same_code(k - 1, k);
-  });
-  parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-    std::vector<std::pair<Point2, std::int32_t>> run;
-    for (std::size_t k = begin; k < end; ++k) {
-      if (!run_start[k]) continue;
-      std::size_t last = k + 1;
-      while (last < n && !run_start[last]) ++last;
-      if (last - k < 2) continue;
-      run.clear();
-      for (std::size_t j = k; j < last; ++j) run.emplace_back(sorted[j], sites.input_index[j]);
-      std::stable_sort(run.begin(), run.end(), [](const auto& a, const auto& b) {
-        return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
-      });
-      for (std::size_t j = k; j < last; ++j) {
-        sorted[j] = run[j - k].first;
-        sites.input_index[j] = run[j - k].second;
+    // Its runs may cross chunk boundaries: their starts are marked first, then each chunk sorts
+    // the runs that start in it (and only it touches them).
+    const std::size_t hi = lo + m;
+    HostVector<unsigned char> run_start(m);
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = lo + begin; k < lo + end; ++k) run_start[k - lo] = k == lo || !same_code(k - 1, k);
+    });
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      std::vector<std::pair<Point2, std::int32_t>> run;
+      std::size_t repeats_here = 0;
+      for (std::size_t k = lo + begin; k < lo + end; ++k) {
+        if (!run_start[k - lo]) continue;
+        std::size_t last = k + 1;
+        while (last < hi && !run_start[last - lo]) ++last;
+        if (last - k < 2) continue;
+        run.clear();
+        for (std::size_t j = k; j < last; ++j) run.emplace_back(sorted[j], sites.input_index[j]);
+        // Input indices rise along the run (the sort was stable): ties broken by them are the
+        // stable order, and std::sort needs no buffer (kuzmin's runs are long: ~1/3 of its time).
+        std::sort(run.begin(), run.end(), [&](const auto& a, const auto& b) {
+          return point_less(a.first, b.first) || (!point_less(b.first, a.first) && a.second < b.second);
+        });
+        for (std::size_t j = k; j < last; ++j) {
+          sorted[j] = run[j - k].first;
+          sites.input_index[j] = run[j - k].second;
+          repeats_here += j > k && repeats_previous(j);
+        }
       }
-    }
-  });
+      if (repeats_here > 0) repeated.fetch_add(repeats_here, std::memory_order_relaxed);
+    });
+  }
 
   // 3. Duplicates: position k repeats the point before it or is a new site; the first position
   // of a group of equal points represents the group.
-  const auto repeats_previous = [&](std::size_t k) {
-    return k > 0 && sorted[k - 1].x == sorted[k].x && sorted[k - 1].y == sorted[k].y;
-  };
+  resize_prefaulted(sites.representative, n);
+  if (repeated.load() == 0) {  // every point is distinct (the usual case)
+    parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) sites.representative[i] = static_cast<std::int32_t>(i);
+    });
+    return sites;
+  }
   std::vector<std::size_t> repeats(chunks + 1, 0);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::size_t count = 0;
@@ -231,14 +267,6 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     repeats[chunk + 1] = count;
   });
   for (std::size_t c = 0; c < chunks; ++c) repeats[c + 1] += repeats[c];
-
-  resize_prefaulted(sites.representative, n);
-  if (repeats[chunks] == 0) {  // every point is distinct (the usual case)
-    parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) sites.representative[i] = static_cast<std::int32_t>(i);
-    });
-    return sites;
-  }
   // Sites are the positions that repeat nothing, in order; chunk c's first one is site
   // begin - repeats[c].
   const std::size_t site_count = n - repeats[chunks];
