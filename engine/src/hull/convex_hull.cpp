@@ -140,7 +140,7 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
 Hull convex_hull(const SiteSet& sites) {
   const auto& p = sites.points;
   Hull hull;
-  hull.predecessor.resize(p.size());
+  resize_for_parallel_write(hull.predecessor, p.size());
   parallel_chunks(p.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
     std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
               hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);

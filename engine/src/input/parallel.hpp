@@ -100,6 +100,15 @@ std::vector<std::size_t> distribution_slots(std::vector<std::uint32_t>& counts, 
 /// to the program (THP "madvise" mode): a 2 MiB page is one fault instead of 512. A hint only.
 void advise_huge_pages(void* begin, std::size_t bytes);
 
+/// v.resize(n) for a HostVector (its new elements unwritten), with huge pages asked for: for a
+/// large buffer that a parallel pass writes first, in any order (2 MiB faults, not 4 KiB).
+template <class T>
+void resize_for_parallel_write(HostVector<T>& v, std::size_t n) {
+  const std::size_t old_size = v.size();
+  v.resize(n);
+  if (n > old_size) advise_huge_pages(v.data() + old_size, (n - old_size) * sizeof(T));
+}
+
 /// Faults in the pages over [begin, begin + bytes) that memory we own covers, writable, in one
 /// system call where the kernel offers one (false: it did nothing, touch the pages instead).
 /// The contents do not change, except that begin[0] is written (as 0).

@@ -123,8 +123,8 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     for (std::size_t i = begin; i < end; ++i) ++mine[code_of(scaled(input[i])) >> below];
   });
   const std::vector<std::size_t> bucket_start = distribution_slots(next, chunks, buckets);
-  sites.points.resize(n);
-  sites.input_index.resize(n);
+  resize_for_parallel_write(sites.points, n);  // scattered first writes, on all threads
+  resize_for_parallel_write(sites.input_index, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
     for (std::size_t i = begin; i < end; ++i) {
