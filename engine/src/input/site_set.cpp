@@ -201,9 +201,13 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   };
   for (const std::size_t d : big) {  // skewed inputs: a bucket too large for one thread
     const std::size_t lo = bucket_start[d], m = bucket_start[d + 1] - lo;
-    HostVector<std::uint64_t> codes(m);
-    HostVector<std::int32_t> position(m), index(m);
-    HostVector<Point2> points(m);
+    HostVector<std::uint64_t> codes;
+    HostVector<std::int32_t> position, index;
+    HostVector<Point2> points;
+    resize_for_parallel_write(codes, m);
+    resize_for_parallel_write(position, m);
+    resize_for_parallel_write(index, m);
+    resize_for_parallel_write(points, m);
     parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t j = begin; j < end; ++j) {
         points[j] = sites.points[lo + j];
