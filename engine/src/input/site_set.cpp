@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <limits>
+#include <ranges>
 #include <string>
 
 #include "expanse/error.hpp"
@@ -155,7 +156,20 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     else if (m > 1) small.push_back(d);
   }
   std::atomic<std::size_t> repeated{0};  // positions equal to the point before them
-  parallel_tasks(small.size(), [&](std::size_t task) {
+  // Task 0 writes the representatives as if every point were distinct (the usual case; the
+  // merge below rewrites them all otherwise). They are a std::vector (Mesh::representative):
+  // written whole on one thread, once, while the other threads sort, instead of a zeroing pass
+  // on one thread and an identity pass on all after the sort.
+  parallel_tasks(small.size() + 1, [&](std::size_t task) {
+    if (task == 0) {
+      auto& representative = sites.representative;
+      representative.reserve(n);
+      advise_huge_pages(representative.data(), n * sizeof(std::int32_t));
+      const auto ids = std::views::iota(std::int32_t{0}, static_cast<std::int32_t>(n));
+      representative.assign(ids.begin(), ids.end());
+      return;
+    }
+    --task;
     const std::size_t lo = bucket_start[small[task]], m = bucket_start[small[task] + 1] - lo;
     thread_local std::vector<std::uint64_t> codes, codes_scratch;
     thread_local std::vector<std::int32_t> position, position_scratch, index;
@@ -257,13 +271,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
 
   // 3. Duplicates: position k repeats the point before it or is a new site; the first position
   // of a group of equal points represents the group.
-  resize_prefaulted(sites.representative, n);
-  if (repeated.load() == 0) {  // every point is distinct (the usual case)
-    parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) sites.representative[i] = static_cast<std::int32_t>(i);
-    });
-    return sites;
-  }
+  if (repeated.load() == 0) return sites;  // every point is distinct (the usual case)
   std::vector<std::size_t> repeats(chunks + 1, 0);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::size_t count = 0;
