@@ -4,7 +4,8 @@
 // checksums across --threads values show the result does not depend on the thread count).
 //
 //   expanse-bench-host-stages [--n 1e6,4e6,4096^2] [--dist uniform] [--reps 3] [--threads N]
-//                             [--stages prepare,hull,buckets,audit,derive,seam,output,alloc]
+//                             [--stages prepare,hull,buckets,buckets_coarse,buckets_on_demand,
+//                                       audit,derive,seam,output,alloc]
 //                             [--open-sites 8] [--cache DIR] [-o FILE.jsonl] [--note TEXT]
 //
 // Stages:
