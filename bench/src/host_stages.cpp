@@ -4,23 +4,27 @@
 // checksums across --threads values show the result does not depend on the thread count).
 //
 //   expanse-bench-host-stages [--n 1e6,4e6,4096^2] [--dist uniform] [--reps 3] [--threads N]
-//                             [--stages prepare,hull,buckets,audit,derive,seam,output,alloc]
+//                             [--stages prepare,hull,buckets,buckets_coarse,buckets_on_demand,
+//                                       audit,derive,seam,output,alloc]
 //                             [--open-sites 8] [--cache DIR] [-o FILE.jsonl] [--note TEXT]
 //
 // Stages:
 //   prepare  prepare_sites(points): validate, scale, Morton sort, merge duplicates
 //   hull     convex_hull(sites)
 //   buckets  BucketTree(sites): what the seam stage searches (buckets_coarse: with 256-site
-//            buckets, what the pipeline builds when the seam is tiny)
+//            buckets, what the pipeline built for a tiny seam before buckets_on_demand: the
+//            start of a tree split only where searches go, what it builds now)
 //   audit    adjacency_is_trustworthy() on the full Delaunay triangulation less the triangles
 //            around --open-sites sites (a seam like the one a GPU leaves), with its adjacency
 //   derive   derive_neighbors() on the same triangles
 //   seam     complete_seam() on them (tree built beforehand, not timed), handed over in vectors
 //            of exactly their size (seam_reserved: with room for all triangles reserved;
-//            seam_coarse: the same over the 256-site-bucket tree)
+//            seam_coarse: the same over the 256-site-bucket tree; seam_on_demand: over a fresh
+//            on-demand tree, its splits included)
 //   output   site ids -> input indices over every triangle (the pipeline's output stage)
 //   alloc    std::vector resize of the triangles and neighbours a backend downloads into
-//            (and alloc_prefaulted: the same through resize_prefaulted)
+//            (and alloc_prefaulted: the same through resize_prefaulted; alloc_full: through
+//            allocate_full_triangulation, as the CUDA backend does)
 //
 // The full triangulation comes from the CPU backend's algorithm (the seam stage from one seed)
 // and is cached under --cache (default $TMPDIR or /tmp, expanse-host-stages/): building it at
@@ -139,7 +143,7 @@ std::vector<Triangle> full_triangulation(const SiteSet& sites, const Hull& hull,
 int main(int argc, char** argv) {
   CLI::App app{"Times each host stage of the pipeline"};
   std::vector<std::string> sizes{"1e6", "4e6", "4096^2"};
-  std::vector<std::string> stages{"prepare", "hull",   "buckets", "buckets_coarse", "audit",
+  std::vector<std::string> stages{"prepare", "hull",   "buckets", "buckets_coarse", "buckets_on_demand", "audit",
                                   "derive",  "seam",   "output",  "alloc"};
   std::string distribution = "uniform", output, note, cache = default_cache().string();
   int reps = 3;
@@ -222,6 +226,14 @@ int main(int argc, char** argv) {
       }
     }
 
+    // The tree the pipeline builds for a tiny seam: made on demand (the stage times its start;
+    // its searches split what they enter, inside seam_on_demand).
+    if (wants("buckets_on_demand")) {
+      std::optional<BucketTree> lazy;
+      const auto s = measure(reps, [&] { lazy.reset(); }, [&] { lazy.emplace(BucketTree::on_demand(sites)); });
+      emit("buckets_on_demand", s, Checksum{}.add(lazy->nodes()).hex(), {{"nodes", lazy->nodes().size()}});
+    }
+
     if (!(wants("audit") || wants("derive") || wants("seam") || wants("output") || wants("alloc"))) continue;
     const std::filesystem::path cache_file =
         std::filesystem::path(cache) / (distribution + "-" + std::to_string(n) + "-" + std::to_string(seed) + ".tri");
@@ -261,12 +273,14 @@ int main(int argc, char** argv) {
       SeamStats stats;
       // As a backend hands them over: vectors exactly as large as their contents (the seam
       // stage must move them to make room), or with room for every triangle reserved.
-      for (const char* variant : {"seam", "seam_reserved", "seam_coarse"}) {
+      std::optional<BucketTree> lazy;
+      for (const char* variant : {"seam", "seam_reserved", "seam_coarse", "seam_on_demand"}) {
         const bool reserved = variant != std::string("seam");
-        const BucketTree& search_tree = variant == std::string("seam_coarse") ? *coarse : *tree;
+        const bool on_demand = variant == std::string("seam_on_demand");
         const auto s = measure(
             reps,
             [&] {
+              if (on_demand) lazy.emplace(BucketTree::on_demand(sites));  // fresh: searches grow it
               work = PartialTriangulation{};
               if (reserved) {
                 work.triangles.reserve(full.size());
@@ -275,11 +289,15 @@ int main(int argc, char** argv) {
               work.triangles = partial.triangles;
               work.neighbors = partial.neighbors;
             },
-            [&] { stats = complete_seam(sites, hull, search_tree, work); });
+            [&] {
+              const BucketTree& search_tree = on_demand ? *lazy : variant == std::string("seam_coarse") ? *coarse : *tree;
+              stats = complete_seam(sites, hull, search_tree, work);
+            });
         nlohmann::ordered_json info = seam_info;
         info["open_edges"] = stats.open_edges;
         info["triangles_made"] = stats.triangles_made;
         info["candidates_tested"] = stats.candidates_tested;
+        if (on_demand) info["nodes"] = lazy->nodes().size();
         emit(variant, s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
       }
     }
@@ -316,6 +334,13 @@ int main(int argc, char** argv) {
             resize_prefaulted(neighbors, full.size());
           });
       emit("alloc_prefaulted", p, "", {{"triangles", full.size()}, {"bytes", 2 * full.size() * sizeof(Triangle)}});
+      // What the CUDA backend calls while its kernel runs: faulted in on all threads, then the
+      // two vectors zeroed side by side (allocate_full_triangulation).
+      PartialTriangulation room;
+      const auto f = measure(
+          reps, [&] { room = PartialTriangulation{}; },
+          [&] { allocate_full_triangulation(room, static_cast<std::size_t>(sites.size()), hull.sites.size()); });
+      emit("alloc_full", f, "", {{"triangles", room.triangles.size()}, {"bytes", 2 * room.triangles.size() * sizeof(Triangle)}});
     }
   }
   return 0;

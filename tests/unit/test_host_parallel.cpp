@@ -14,6 +14,7 @@
 
 #include "expanse/error.hpp"
 #include "expanse/generate.hpp"
+#include "grid/apex_search.hpp"
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/morton.hpp"
@@ -238,6 +239,40 @@ TEST_CASE("bucket tree: sites out of Morton order are refused", "[parallel][grid
   }
 }
 
+TEST_CASE("bucket tree on demand: a bucket a search reaches over sites out of Morton order is refused", "[grid]") {
+  const std::vector<Point2> points = generate_points("uniform", 20000, 6);
+  const SiteSet sites = prepare_sites(points);
+  SiteSet broken = sites;
+  std::reverse(broken.points.begin(), broken.points.end());
+  const BucketTree tree = BucketTree::on_demand(broken);
+  ApexSearch search(broken, tree);
+  try {
+    (void)search.nearest_neighbor(0);
+    FAIL("searched unsorted sites");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::internal);
+  }
+}
+
+TEST_CASE("allocate_full_triangulation: room for every triangle, zeroed, shrinks in place", "[seam]") {
+  for (std::size_t threads : thread_counts) {
+    Threads use(threads);
+    PartialTriangulation partial;
+    const std::size_t sites = 300000, hull_sites = 17, full = 2 * sites - hull_sites - 2;
+    allocate_full_triangulation(partial, sites, hull_sites);
+    REQUIRE(partial.triangles.size() == full);
+    REQUIRE(partial.neighbors.size() == full);
+    // Nothing unwritten reaches the output: every element is value-initialised.
+    const auto zero = [](const std::array<std::int32_t, 3>& t) { return t[0] == 0 && t[1] == 0 && t[2] == 0; };
+    CHECK(std::all_of(partial.triangles.begin(), partial.triangles.end(), zero));
+    CHECK(std::all_of(partial.neighbors.begin(), partial.neighbors.end(), zero));
+    const Triangle* storage = partial.triangles.data();
+    partial.triangles.resize(full / 2);
+    partial.triangles.push_back({1, 2, 3});  // what the seam stage appends stays where it is
+    CHECK(partial.triangles.data() == storage);
+  }
+}
+
 TEST_CASE("hull, neighbours, audit and output remap: the same with any number of threads", "[parallel][seam]") {
   const std::vector<Point2> points = generate_points("uniform", 200000, 8);
   const SiteSet sites = prepare_sites(points);
@@ -308,7 +343,7 @@ TEST_CASE("hull, neighbours, audit and output remap: the same with any number of
   }
 }
 
-TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-site buckets", "[parallel][seam]") {
+TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-site buckets and on demand", "[parallel][seam]") {
   for (const char* distribution : {"uniform", "kuzmin", "grid"}) {
     const std::vector<Point2> points = generate_points(distribution, 300000, 9);
     const SiteSet sites = prepare_sites(points);
@@ -325,12 +360,18 @@ TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-si
       if (!open) partial.triangles.push_back(u);
     }
     const std::size_t expected = 2 * sites.points.size() - hull.sites.size() - 2;
-    REQUIRE(BucketTree::seam_capacity(sites.points.size(), expected - partial.triangles.size()) ==
-            BucketTree::coarse_capacity);
-    PartialTriangulation fine = partial, coarse = partial;
-    complete_seam(sites, hull, BucketTree(sites), fine);
+    const BucketTree seam_tree = BucketTree::for_seam(sites, expected - partial.triangles.size());
+    REQUIRE(seam_tree.is_on_demand());
+    const BucketTree fine_tree(sites);
+    PartialTriangulation fine = partial, coarse = partial, on_demand = partial;
+    complete_seam(sites, hull, fine_tree, fine);
     complete_seam(sites, hull, BucketTree(sites, BucketTree::coarse_capacity), coarse);
+    complete_seam(sites, hull, seam_tree, on_demand);
     CHECK(fine.triangles == coarse.triangles);
     CHECK(fine.neighbors == coarse.neighbors);
+    CHECK(fine.triangles == on_demand.triangles);
+    CHECK(fine.neighbors == on_demand.neighbors);
+    // The on-demand tree split only where the seam's searches went: its cost follows the seam.
+    CHECK(seam_tree.nodes().size() * 20 < fine_tree.nodes().size());
   }
 }

@@ -33,16 +33,25 @@ struct Fixture {
     for (const Triangle& t : oracle_input) oracle_sites.push_back({site_of[t[0]], site_of[t[1]], site_of[t[2]]});
   }
 
-  // Keeps the oracle triangles `keep` accepts, completes, compares with CGAL.
+  // Keeps the oracle triangles `keep` accepts, completes, compares with CGAL: over the full
+  // bucket tree and over one built on demand (what the pipeline uses for tiny seams).
   template <class Keep>
   void complete_and_compare(Keep&& keep, std::size_t* removed_out = nullptr) {
-    PartialTriangulation partial;
+    PartialTriangulation kept;
     for (const Triangle& t : oracle_sites) {
-      if (keep(t)) partial.triangles.push_back(t);
+      if (keep(t)) kept.triangles.push_back(t);
     }
-    const std::size_t removed = oracle_sites.size() - partial.triangles.size();
+    const std::size_t removed = oracle_sites.size() - kept.triangles.size();
     if (removed_out) *removed_out = removed;
-    const BucketTree tree(sites);
+    for (const bool on_demand : {false, true}) {
+      INFO((on_demand ? "on-demand tree" : "full tree"));
+      PartialTriangulation partial = kept;
+      const BucketTree tree = on_demand ? BucketTree::on_demand(sites) : BucketTree(sites);
+      complete(partial, tree, removed);
+    }
+  }
+
+  void complete(PartialTriangulation& partial, const BucketTree& tree, std::size_t removed) {
     const SeamStats stats = complete_seam(sites, hull, tree, partial);
     CHECK(stats.triangles_made == removed);
     std::vector<Triangle> result;

@@ -268,11 +268,11 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   };
   const auto descend = [&](std::int32_t root, const QuantBox& square) {
     {  // most cells are a single bucket: no stack for them
-      const BucketTree::Node& node = nodes[root];
+      const BucketTree::Node node = nodes[root];
       if (node.begin == node.end) return;
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) return;
-      if (node.first_child < 0) {
+      if (node.first_child == -1) {
         visit_bucket(root, node, box);
         return;
       }
@@ -281,21 +281,22 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
     stack_.push_back(root);
     while (!stack_.empty()) {
       const std::int32_t index = stack_.back();
-      const BucketTree::Node& node = nodes[index];
+      const BucketTree::Node node = nodes[index];  // a copy: an on-demand tree grows below
       stack_.pop_back();
       if (node.begin == node.end) continue;
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
-      if (node.first_child < 0) {
+      if (node.first_child == -1) {
         visit_bucket(index, node, box);
         continue;
       }
       if (outside_circle(box, region) || entirely_right(box, a, b)) continue;
       // Children nearest the midpoint last, so they are popped first.
+      const std::int32_t first = tree_.children(index);
       const std::uint32_t mid = node.size / 2;
       const int near = (qmx >= node.x0 + mid ? 1 : 0) | (qmy >= node.y0 + mid ? 2 : 0);
-      for (int k = 3; k >= 0; --k) stack_.push_back(node.first_child + (near ^ k));
+      for (int k = 3; k >= 0; --k) stack_.push_back(first + (near ^ k));
     }
   };
 
@@ -344,14 +345,16 @@ std::int32_t ApexSearch::nearest(const Point2& q, std::int32_t exclude) {
     stack_.clear();
     stack_.push_back(0);
     while (!stack_.empty()) {
-      const BucketTree::Node& node = nodes[stack_.back()];
+      const std::int32_t index = stack_.back();
+      const BucketTree::Node node = nodes[index];  // a copy: an on-demand tree grows below
       stack_.pop_back();
       if (node.begin == node.end) continue;
       const QuantBox box = node.box();
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
-      if (node.first_child >= 0) {
-        for (int k = 0; k < 4; ++k) stack_.push_back(node.first_child + k);
+      if (node.first_child != -1) {
+        const std::int32_t first = tree_.children(index);
+        for (int k = 0; k < 4; ++k) stack_.push_back(first + k);
         continue;
       }
       if (has_visited && box.intersects(visited)) continue;

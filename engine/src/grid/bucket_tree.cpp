@@ -225,6 +225,81 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
   parallel_tasks(roots.size(), [&](std::size_t r) { fill_cells(roots[r]); });
 }
 
+BucketTree BucketTree::on_demand(const SiteSet& sites, int capacity) {
+  BucketTree tree;
+  const Quantiser quantiser(sites.bounds);
+  tree.origin_x_ = quantiser.origin_x;
+  tree.origin_y_ = quantiser.origin_y;
+  tree.scale_ = quantiser.scale;
+  tree.capacity_ = std::max(1, capacity);
+  tree.sites_ = &sites;
+  const Node root{0, 0, 1u << quant_bits, -1, 0, sites.size()};
+  tree.nodes_.push_back(root);
+  tree.nodes_[0].first_child = is_bucket(root, tree.capacity_) ? -1 : unsplit;
+  if (tree.nodes_[0].first_child == -1) tree.check_bucket(0);
+  // Cells of a few hundred sites: the grid is filled cell by cell as searches enter it, and is
+  // kept small (at most 2^18 cells, 1 MB), since it is written whole.
+  const std::size_t per_cell = std::max(64, tree.capacity_ / 2);
+  const auto count = static_cast<std::size_t>(sites.size());
+  while (tree.grid_level_ < 9 && (std::size_t{1} << (2 * tree.grid_level_)) * per_cell < count) ++tree.grid_level_;
+  tree.cell_node_.assign(std::size_t{1} << (2 * tree.grid_level_), -1);
+  return tree;
+}
+
+std::int32_t BucketTree::split(std::int32_t index) const {
+  const SiteSet& sites = *sites_;
+  const auto code_of = [&](std::int32_t i) {
+    const Point2& p = sites.points[static_cast<std::size_t>(i)];
+    return morton_code(quantise_x(p.x), quantise_y(p.y));
+  };
+  const Node parent = nodes_[static_cast<std::size_t>(index)];
+  const std::array<Node, 4> children = children_of(parent, code_of);
+  const auto first = static_cast<std::int32_t>(nodes_.size());
+  for (Node child : children) {
+    child.first_child = is_bucket(child, capacity_) ? -1 : unsplit;
+    nodes_.push_back(child);
+  }
+  nodes_[static_cast<std::size_t>(index)].first_child = first;
+  for (int k = 0; k < 4; ++k) {
+    if (nodes_[static_cast<std::size_t>(first + k)].first_child == -1) check_bucket(first + k);
+  }
+  return first;
+}
+
+void BucketTree::check_bucket(std::int32_t index) const {
+  // The split found each child's range by binary search, which is right only over sites in
+  // Morton order: every site of a bucket must lie in its box, in code order.
+  const SiteSet& sites = *sites_;
+  const Node& bucket = nodes_[static_cast<std::size_t>(index)];
+  const QuantBox box = bucket.box();
+  std::uint64_t previous = 0;
+  for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
+    const Point2& p = sites.points[static_cast<std::size_t>(i)];
+    const std::uint32_t qx = quantise_x(p.x), qy = quantise_y(p.y);
+    const std::uint64_t code = morton_code(qx, qy);
+    if (qx < box.x0 || qx > box.x1 || qy < box.y0 || qy > box.y1 || (i > bucket.begin && code < previous)) {
+      throw Error(ErrorCode::internal, "bucket tree built over sites that are not in Morton order");
+    }
+    previous = code;
+  }
+}
+
+std::int32_t BucketTree::resolve_cell(int i, int j) const {
+  // The node of cell size over cell (i, j), or the bucket above it, found from the root.
+  const int shift = cell_shift();
+  const std::uint32_t qx = static_cast<std::uint32_t>(i) << shift, qy = static_cast<std::uint32_t>(j) << shift;
+  std::int32_t node = 0;
+  while (nodes_[static_cast<std::size_t>(node)].size > (1u << shift)) {
+    const std::int32_t first = children(node);
+    if (first < 0) break;
+    const Node& parent = nodes_[static_cast<std::size_t>(node)];
+    const std::uint32_t half = parent.size / 2;
+    node = first + ((qx >= parent.x0 + half ? 1 : 0) | (qy >= parent.y0 + half ? 2 : 0));
+  }
+  cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i] = node;
+  return node;
+}
+
 void BucketTree::fill_cells(std::int32_t node_index) {
   const Node& node = nodes_[node_index];
   const int shift = cell_shift();
@@ -242,11 +317,11 @@ void BucketTree::fill_cells(std::int32_t node_index) {
 
 std::uint32_t BucketTree::bucket_size_at(std::uint32_t qx, std::uint32_t qy) const {
   std::int32_t node = cell_node(static_cast<int>(qx >> cell_shift()), static_cast<int>(qy >> cell_shift()));
-  while (nodes_[node].first_child >= 0) {
+  for (std::int32_t first = children(node); first >= 0; first = children(node)) {
     const Node& parent = nodes_[node];
     const std::uint32_t half = parent.size / 2;
     const int quadrant = (qx >= parent.x0 + half ? 1 : 0) | (qy >= parent.y0 + half ? 2 : 0);
-    node = parent.first_child + quadrant;
+    node = first + quadrant;
   }
   return nodes_[node].size;
 }

@@ -28,10 +28,14 @@ class BucketTree {
   static constexpr std::uint32_t quant_max = (1u << quant_bits) - 1;
   static constexpr int bucket_capacity = 8;
 
+  /// Node::first_child of a node that holds more than a bucket's sites but has not been split
+  /// yet (only in a tree made by on_demand()): children() splits it.
+  static constexpr std::int32_t unsplit = -2;
+
   struct Node {
     std::uint32_t x0, y0;  // quantised lower-left corner
     std::uint32_t size;    // side length in quanta (a power of two)
-    std::int32_t first_child;  // index of 4 consecutive children, or -1 for a bucket
+    std::int32_t first_child;  // index of 4 consecutive children, -1 for a bucket, or unsplit
     std::int32_t begin, end;   // range of site ids (sites are in Morton order)
     QuantBox box() const { return {x0, y0, x0 + (size - 1), y0 + (size - 1)}; }
   };
@@ -40,17 +44,38 @@ class BucketTree {
   /// Error(internal) otherwise. The tree refers to the sites by id, it keeps no copy.
   /// Buckets hold at most `capacity` sites (unless they are a single quantum); larger buckets
   /// make a much smaller tree that costs each search more (see coarse_capacity).
+  /// Sites must outlive the tree when it is made on_demand.
   explicit BucketTree(const SiteSet& sites, int capacity = bucket_capacity);
 
-  /// Bucket capacity for a seam of `missing` triangles among `sites` sites: when the seam is
-  /// tiny next to the sites (a GPU leaves a few dozen triangles out of millions), building
-  /// the tree down to 8-site buckets costs far more than the seam's searches save by it.
-  static int seam_capacity(std::size_t sites, std::size_t missing) {
-    return missing > 0 && missing <= sites / 1024 ? coarse_capacity : bucket_capacity;
+  /// The tree the seam stage searches to make `missing` triangles among `sites` sites: when the
+  /// seam is tiny next to the sites (a GPU leaves ~100 triangles out of 33.5M), one built on
+  /// demand, since building a whole tree costs far more than the seam's searches (even with
+  /// coarse_capacity buckets: 325 ms at 4096^2 on the 2-core VM, against a 25 ms seam);
+  /// otherwise the full tree with 8-site buckets, built on all threads.
+  static BucketTree for_seam(const SiteSet& sites, std::size_t missing) {
+    const auto count = static_cast<std::size_t>(sites.size());
+    return missing > 0 && missing <= count / 1024 ? on_demand(sites) : BucketTree(sites);
   }
+  /// Large buckets: a tree about 27 times smaller than with 8-site buckets, whose searches cost
+  /// more (what the seam stage used before on_demand; benchmarks compare).
   static constexpr int coarse_capacity = 256;
 
+  /// A tree that splits a node only when a search first looks inside it: nothing of size n is
+  /// built, so a seam of a few dozen triangles costs in proportion to the sites its searches
+  /// reach, not to all sites (a GPU leaves ~100 of 16.8M). Searches grow it, so one search at a
+  /// time (the seam stage runs on one thread). Morton order, which the full build checks for
+  /// every site, is checked here for the sites of each bucket it makes: the ones searched.
+  static BucketTree on_demand(const SiteSet& sites, int capacity = bucket_capacity);
+  bool is_on_demand() const { return sites_ != nullptr; }
+
   int capacity() const { return capacity_; }
+
+  /// nodes()[index].first_child, after splitting the node if it is unsplit. Splitting appends
+  /// to nodes(): references to its elements do not survive this call; indices do.
+  std::int32_t children(std::int32_t index) const {
+    const std::int32_t first = nodes_[static_cast<std::size_t>(index)].first_child;
+    return first == unsplit ? split(index) : first;
+  }
 
   /// Quantised coordinate of a real one; monotone, clamped to [0, quant_max].
   std::uint32_t quantise_x(double x) const { return quantise(x - origin_x_); }
@@ -70,7 +95,10 @@ class BucketTree {
   /// are spread evenly: cell (i, j) names the tree node of that cell, or the bucket above it.
   int grid_cells_per_side() const { return 1 << grid_level_; }
   int cell_shift() const { return quant_bits - grid_level_; }  ///< quanta per cell = 2^shift
-  std::int32_t cell_node(int i, int j) const { return cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i]; }
+  std::int32_t cell_node(int i, int j) const {
+    const std::int32_t node = cell_node_[(static_cast<std::size_t>(j) << grid_level_) + i];
+    return node >= 0 ? node : resolve_cell(i, j);
+  }
 
  private:
   // Must agree exactly with Quantiser (grid/morton.hpp).
@@ -80,13 +108,19 @@ class BucketTree {
     if (q >= static_cast<double>(quant_max)) return quant_max;
     return static_cast<std::uint32_t>(q);
   }
+  BucketTree() = default;
   void fill_cells(std::int32_t node);
+  std::int32_t split(std::int32_t index) const;
+  void check_bucket(std::int32_t index) const;
+  std::int32_t resolve_cell(int i, int j) const;
 
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
   int capacity_ = bucket_capacity;
   int grid_level_ = 0;
-  HostVector<std::int32_t> cell_node_;
-  HostVector<Node> nodes_;
+  // An on-demand tree grows while it is searched (split, resolve_cell); a full one never does.
+  const SiteSet* sites_ = nullptr;  // on demand only
+  mutable HostVector<std::int32_t> cell_node_;  // -1: not resolved yet (on demand only)
+  mutable HostVector<Node> nodes_;
 };
 
 }  // namespace expanse::detail

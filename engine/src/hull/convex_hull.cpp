@@ -27,20 +27,43 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
   };
   const std::size_t chunks = chunk_count(static_cast<std::size_t>(n));
   std::vector<Extremes> found(chunks);
+  // direction d . p[i], each rounded as the dot product is (0 * x adds a zero; rounding to
+  // nearest is symmetric, so -x - y == -(x + y) and -x + y == -(x - y)).
+  const auto value = [&](std::size_t i, int d) {
+    const double x = p[i].x, y = p[i].y;
+    switch (d) {
+      case 0: return -y;
+      case 1: return x - y;
+      case 2: return x;
+      case 3: return x + y;
+      case 4: return y;
+      case 5: return -(x - y);
+      case 6: return -x;
+      default: return -(x + y);
+    }
+  };
   parallel_chunks(static_cast<std::size_t>(n), chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     Extremes e;
     e.best.fill(-std::numeric_limits<double>::infinity());
-    for (std::size_t i = begin; i < end; ++i) {
-      // direction d . p[i], each rounded as the dot product is (0 * x adds a zero; rounding
-      // to nearest is symmetric, so -x - y == -(x + y) and -x + y == -(x - y)).
-      const double x = p[i].x, y = p[i].y, sum = x + y, difference = x - y;
-      const double values[8] = {-y, difference, x, sum, y, -difference, -x, -sum};
+    // Blocks of sites: the maxima of a block vectorise (no site to track); only a block that
+    // beats the best so far, rare after the first few, is searched for its first maximal site.
+    // The same site as a site-by-site scan: the first one with the largest value.
+    constexpr std::size_t block = 256;
+    for (std::size_t lo = begin; lo < end; lo += block) {
+      const std::size_t hi = std::min(end, lo + block);
+      double top[8];
+      for (int d = 0; d < 8; ++d) top[d] = -std::numeric_limits<double>::infinity();
+      for (std::size_t i = lo; i < hi; ++i) {
+        const double x = p[i].x, y = p[i].y, sum = x + y, difference = x - y;
+        const double values[8] = {-y, difference, x, sum, y, -difference, -x, -sum};
+        for (int d = 0; d < 8; ++d) top[d] = values[d] > top[d] ? values[d] : top[d];
+      }
       for (int d = 0; d < 8; ++d) {
-        const double v = values[d];
-        if (v > e.best[d]) {
-          e.best[d] = v;
-          e.site[d] = static_cast<std::int32_t>(i);
-        }
+        if (!(top[d] > e.best[d])) continue;
+        std::size_t i = lo;
+        while (value(i, d) != top[d]) ++i;
+        e.best[d] = top[d];
+        e.site[d] = static_cast<std::int32_t>(i);
       }
     }
     found[chunk] = e;
@@ -117,7 +140,7 @@ std::vector<std::int32_t> hull_candidates(const SiteSet& sites) {
 Hull convex_hull(const SiteSet& sites) {
   const auto& p = sites.points;
   Hull hull;
-  hull.predecessor.resize(p.size());
+  resize_for_parallel_write(hull.predecessor, p.size());
   parallel_chunks(p.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
     std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
               hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);

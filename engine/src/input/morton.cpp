@@ -140,8 +140,10 @@ void sort_by_code(HostVector<std::uint64_t>& codes, HostVector<std::int32_t>& va
   const std::size_t n = codes.size();
   if (n < 2) return;
   // Slot counters are 32-bit: n < 2^31 (prepare_sites refuses more).
-  HostVector<std::uint64_t> codes_tmp(n);
-  HostVector<std::int32_t> values_tmp(n);
+  HostVector<std::uint64_t> codes_tmp;
+  HostVector<std::int32_t> values_tmp;
+  resize_for_parallel_write(codes_tmp, n);
+  resize_for_parallel_write(values_tmp, n);
   const Sides sides{{codes.data(), codes_tmp.data()}, {values.data(), values_tmp.data()}};
   // Ranges above `large` are split with all threads; the rest are sorted one per thread.
   const std::size_t large = std::max<std::size_t>(std::size_t{1} << 16, n / (8 * host_threads()));

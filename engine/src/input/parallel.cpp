@@ -164,4 +164,23 @@ void advise_huge_pages(void* begin, std::size_t bytes) {
 #endif
 }
 
+bool populate_pages(void* begin, std::size_t bytes) {
+#if defined(__linux__)
+  // MADV_POPULATE_WRITE (Linux 5.14) faults in a range in one call instead of one trap per
+  // page: 805 MB of 4 KiB pages on the 2-core VM, 2 threads, 326 -> 303 ms (THP: 40 -> 37 ms).
+  constexpr int populate_write = 23;  // MADV_POPULATE_WRITE, for headers that predate it
+  constexpr std::uintptr_t page = 4096;
+  const auto first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) & ~(page - 1);
+  const auto last = (reinterpret_cast<std::uintptr_t>(begin) + bytes) & ~(page - 1);
+  if (last <= first) return false;
+  if (madvise(reinterpret_cast<void*>(first), last - first, populate_write) != 0) return false;
+  static_cast<volatile unsigned char*>(begin)[0] = 0;  // the page it starts in, if not aligned
+  return true;
+#else
+  (void)begin;
+  (void)bytes;
+  return false;
+#endif
+}
+
 }  // namespace expanse::detail

@@ -100,6 +100,20 @@ std::vector<std::size_t> distribution_slots(std::vector<std::uint32_t>& counts, 
 /// to the program (THP "madvise" mode): a 2 MiB page is one fault instead of 512. A hint only.
 void advise_huge_pages(void* begin, std::size_t bytes);
 
+/// v.resize(n) for a HostVector (its new elements unwritten), with huge pages asked for: for a
+/// large buffer that a parallel pass writes first, in any order (2 MiB faults, not 4 KiB).
+template <class T>
+void resize_for_parallel_write(HostVector<T>& v, std::size_t n) {
+  const std::size_t old_size = v.size();
+  v.resize(n);
+  if (n > old_size) advise_huge_pages(v.data() + old_size, (n - old_size) * sizeof(T));
+}
+
+/// Faults in the pages over [begin, begin + bytes) that memory we own covers, writable, in one
+/// system call where the kernel offers one (false: it did nothing, touch the pages instead).
+/// The contents do not change, except that begin[0] is written (as 0).
+bool populate_pages(void* begin, std::size_t bytes);
+
 /// Faults in the pages of v's storage from [v.size(), capacity) on all threads, before a
 /// sequential pass (std::vector's zeroing resize) touches them.
 template <class T, class A>
@@ -110,6 +124,7 @@ void prefault_capacity(std::vector<T, A>& v) {
   advise_huge_pages(begin, bytes);
   constexpr std::size_t page = 4096;
   parallel_chunks(bytes / page, [&](std::size_t, std::size_t first, std::size_t last) {
+    if (populate_pages(begin + first * page, (last - first) * page)) return;
     for (std::size_t p = first; p < last; ++p) begin[p * page] = 0;
   });
 }

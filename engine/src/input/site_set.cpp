@@ -3,7 +3,9 @@
 #include <cfloat>
 #include <cmath>
 #include <algorithm>
+#include <atomic>
 #include <limits>
+#include <ranges>
 #include <string>
 
 #include "expanse/error.hpp"
@@ -122,8 +124,8 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     for (std::size_t i = begin; i < end; ++i) ++mine[code_of(scaled(input[i])) >> below];
   });
   const std::vector<std::size_t> bucket_start = distribution_slots(next, chunks, buckets);
-  sites.points.resize(n);
-  sites.input_index.resize(n);
+  resize_for_parallel_write(sites.points, n);  // scattered first writes, on all threads
+  resize_for_parallel_write(sites.input_index, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
     for (std::size_t i = begin; i < end; ++i) {
@@ -135,6 +137,17 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   });
   // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
   // by (code, input index).
+  //
+  // 2b. Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
+  // the box, as in heavy-tailed inputs, and duplicates) are put in (x, y) order, stably, so
+  // that equal points stand side by side, their smallest input index first. Looking for an
+  // equal point through a run in input order cost its length squared (2M kuzmin sites on the
+  // 2-core VM: 727 ms against 235 after, both under the same load; 4096^2 on the H100's host:
+  // 1,486 against 383 ms), and more still for many distinct points crowded into one run. A run
+  // has one code, so it lies in one bucket: a bucket sorted on one thread orders its runs and
+  // counts its repeated points while it is in cache (three passes over all sites fewer than
+  // finding runs afterwards: 4096^2 uniform on the 2-core VM, prepare 1,211 -> see commit).
+  const auto point_less = [](const Point2& a, const Point2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
   const std::size_t large = std::max<std::size_t>(std::size_t{1} << 16, n / (4 * host_threads()));
   std::vector<std::size_t> small, big;
   for (std::size_t d = 0; d < buckets; ++d) {
@@ -142,7 +155,21 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     if (m > large) big.push_back(d);
     else if (m > 1) small.push_back(d);
   }
-  parallel_tasks(small.size(), [&](std::size_t task) {
+  std::atomic<std::size_t> repeated{0};  // positions equal to the point before them
+  // Task 0 writes the representatives as if every point were distinct (the usual case; the
+  // merge below rewrites them all otherwise). They are a std::vector (Mesh::representative):
+  // written whole on one thread, once, while the other threads sort, instead of a zeroing pass
+  // on one thread and an identity pass on all after the sort.
+  parallel_tasks(small.size() + 1, [&](std::size_t task) {
+    if (task == 0) {
+      auto& representative = sites.representative;
+      representative.reserve(n);
+      advise_huge_pages(representative.data(), n * sizeof(std::int32_t));
+      const auto ids = std::views::iota(std::int32_t{0}, static_cast<std::int32_t>(n));
+      representative.assign(ids.begin(), ids.end());
+      return;
+    }
+    --task;
     const std::size_t lo = bucket_start[small[task]], m = bucket_start[small[task] + 1] - lo;
     thread_local std::vector<std::uint64_t> codes, codes_scratch;
     thread_local std::vector<std::int32_t> position, position_scratch, index;
@@ -157,16 +184,44 @@ SiteSet prepare_sites(std::span<const Point2> input) {
       position[j] = static_cast<std::int32_t>(j);
     }
     sort_by_code_sequential(codes.data(), position.data(), codes_scratch.data(), position_scratch.data(), m, below);
+    std::size_t repeats_here = 0;
+    for (std::size_t k = 0; k < m;) {
+      std::size_t last = k + 1;
+      while (last < m && codes[last] == codes[k]) ++last;
+      if (last - k >= 2) {  // positions in the run are in input order: ties keep it
+        std::sort(position.begin() + static_cast<std::ptrdiff_t>(k), position.begin() + static_cast<std::ptrdiff_t>(last),
+                  [&](std::int32_t a, std::int32_t b) {
+                    return point_less(points[a], points[b]) || (!point_less(points[b], points[a]) && a < b);
+                  });
+        for (std::size_t j = k + 1; j < last; ++j) {
+          const Point2 &before = points[position[j - 1]], &here = points[position[j]];
+          repeats_here += before.x == here.x && before.y == here.y;
+        }
+      }
+      k = last;
+    }
+    if (repeats_here > 0) repeated.fetch_add(repeats_here, std::memory_order_relaxed);
     for (std::size_t k = 0; k < m; ++k) {
       sites.points[lo + k] = points[position[k]];
       sites.input_index[lo + k] = index[position[k]];
     }
   });
+  auto& sorted = sites.points;
+  const auto same_code = [&](std::size_t j, std::size_t k) {
+    return quantiser.x(sorted[j].x) == quantiser.x(sorted[k].x) && quantiser.y(sorted[j].y) == quantiser.y(sorted[k].y);
+  };
+  const auto repeats_previous = [&](std::size_t k) {
+    return k > 0 && sorted[k - 1].x == sorted[k].x && sorted[k - 1].y == sorted[k].y;
+  };
   for (const std::size_t d : big) {  // skewed inputs: a bucket too large for one thread
     const std::size_t lo = bucket_start[d], m = bucket_start[d + 1] - lo;
-    HostVector<std::uint64_t> codes(m);
-    HostVector<std::int32_t> position(m), index(m);
-    HostVector<Point2> points(m);
+    HostVector<std::uint64_t> codes;
+    HostVector<std::int32_t> position, index;
+    HostVector<Point2> points;
+    resize_for_parallel_write(codes, m);
+    resize_for_parallel_write(position, m);
+    resize_for_parallel_write(index, m);
+    resize_for_parallel_write(points, m);
     parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t j = begin; j < end; ++j) {
         points[j] = sites.points[lo + j];
@@ -182,48 +237,41 @@ SiteSet prepare_sites(std::span<const Point2> input) {
         sites.input_index[lo + k] = index[position[k]];
       }
     });
-  }
-
-  // 2b. Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
-  // the box, as in heavy-tailed inputs, and duplicates) are put in (x, y) order, stably, so
-  // that equal points stand side by side, their smallest input index first. Looking for an
-  // equal point through a run in input order cost its length squared (2M kuzmin sites on the
-  // 2-core VM: 727 ms against 235 after, both under the same load; 4096^2 on the H100's host:
-  // 1,486 against 383 ms), and more still for many distinct points crowded into one run. Runs may cross
-  // chunk boundaries: their starts are marked first, then each chunk sorts the runs that start
-  // in it (and only it touches them).
-  auto& sorted = sites.points;
-  const auto same_code = [&](std::size_t j, std::size_t k) {
-    return quantiser.x(sorted[j].x) == quantiser.x(sorted[k].x) && quantiser.y(sorted[j].y) == quantiser.y(sorted[k].y);
-  };
-  HostVector<unsigned char> run_start(n);
-  parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) run_start[k] = k == 0 || !same_code(k - 1, k);
-  });
-  parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-    std::vector<std::pair<Point2, std::int32_t>> run;
-    for (std::size_t k = begin; k < end; ++k) {
-      if (!run_start[k]) continue;
-      std::size_t last = k + 1;
-      while (last < n && !run_start[last]) ++last;
-      if (last - k < 2) continue;
-      run.clear();
-      for (std::size_t j = k; j < last; ++j) run.emplace_back(sorted[j], sites.input_index[j]);
-      std::stable_sort(run.begin(), run.end(), [](const auto& a, const auto& b) {
-        return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
-      });
-      for (std::size_t j = k; j < last; ++j) {
-        sorted[j] = run[j - k].first;
-        sites.input_index[j] = run[j - k].second;
+    // Its runs may cross chunk boundaries: their starts are marked first, then each chunk sorts
+    // the runs that start in it (and only it touches them).
+    const std::size_t hi = lo + m;
+    HostVector<unsigned char> run_start(m);
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = lo + begin; k < lo + end; ++k) run_start[k - lo] = k == lo || !same_code(k - 1, k);
+    });
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      std::vector<std::pair<Point2, std::int32_t>> run;
+      std::size_t repeats_here = 0;
+      for (std::size_t k = lo + begin; k < lo + end; ++k) {
+        if (!run_start[k - lo]) continue;
+        std::size_t last = k + 1;
+        while (last < hi && !run_start[last - lo]) ++last;
+        if (last - k < 2) continue;
+        run.clear();
+        for (std::size_t j = k; j < last; ++j) run.emplace_back(sorted[j], sites.input_index[j]);
+        // Input indices rise along the run (the sort was stable): ties broken by them are the
+        // stable order, and std::sort needs no buffer (kuzmin's runs are long: ~1/3 of its time).
+        std::sort(run.begin(), run.end(), [&](const auto& a, const auto& b) {
+          return point_less(a.first, b.first) || (!point_less(b.first, a.first) && a.second < b.second);
+        });
+        for (std::size_t j = k; j < last; ++j) {
+          sorted[j] = run[j - k].first;
+          sites.input_index[j] = run[j - k].second;
+          repeats_here += j > k && repeats_previous(j);
+        }
       }
-    }
-  });
+      if (repeats_here > 0) repeated.fetch_add(repeats_here, std::memory_order_relaxed);
+    });
+  }
 
   // 3. Duplicates: position k repeats the point before it or is a new site; the first position
   // of a group of equal points represents the group.
-  const auto repeats_previous = [&](std::size_t k) {
-    return k > 0 && sorted[k - 1].x == sorted[k].x && sorted[k - 1].y == sorted[k].y;
-  };
+  if (repeated.load() == 0) return sites;  // every point is distinct (the usual case)
   std::vector<std::size_t> repeats(chunks + 1, 0);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::size_t count = 0;
@@ -231,14 +279,6 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     repeats[chunk + 1] = count;
   });
   for (std::size_t c = 0; c < chunks; ++c) repeats[c + 1] += repeats[c];
-
-  resize_prefaulted(sites.representative, n);
-  if (repeats[chunks] == 0) {  // every point is distinct (the usual case)
-    parallel_chunks(n, chunks, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) sites.representative[i] = static_cast<std::int32_t>(i);
-    });
-    return sites;
-  }
   // Sites are the positions that repeat nothing, in order; chunk c's first one is site
   // begin - repeats[c].
   const std::size_t site_count = n - repeats[chunks];

@@ -106,10 +106,10 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
       if (!trusted) partial.neighbors.clear();
     }
     if (partial.triangles.size() != expected) {
-      // Something is left open: the seam stage needs the bucket tree over every site (with
-      // large buckets when the seam is tiny next to the sites: far cheaper to build).
-      const int capacity = detail::BucketTree::seam_capacity(sites.points.size(), expected - partial.triangles.size());
-      const detail::BucketTree tree = timed(stats, "buckets", [&] { return detail::BucketTree(sites, capacity); });
+      // Something is left open: the seam stage searches a bucket tree over every site (built on
+      // demand where its searches go when the seam is tiny next to the sites).
+      const std::size_t missing = expected - partial.triangles.size();
+      const detail::BucketTree tree = timed(stats, "buckets", [&] { return detail::BucketTree::for_seam(sites, missing); });
       const detail::SeamStats seam =
           timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
       stats.seam_triangles = seam.triangles_made;

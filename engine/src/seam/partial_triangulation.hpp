@@ -30,4 +30,11 @@ inline void reserve_full_triangulation(PartialTriangulation& partial, std::size_
   partial.neighbors.reserve(full);
 }
 
+/// For backends that download into `partial`: reserve_full_triangulation, then both vectors
+/// resized to that capacity (zeroed), ready to be written and shrunk to what was made (which
+/// never moves them). Call it while the device works: the public vectors are std::vectors, so
+/// some pass has to value-initialise every element on one thread; here the pages are faulted in
+/// on all threads first and the two vectors are zeroed on two threads at once (805 MB at 4096^2).
+void allocate_full_triangulation(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites);
+
 }  // namespace expanse::detail

@@ -133,7 +133,8 @@ std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Tria
     }
   });
   const std::vector<std::size_t> block_start = distribution_slots(next, chunks, blocks);
-  HostVector<std::int32_t> corners(3 * count);
+  HostVector<std::int32_t> corners;
+  resize_for_parallel_write(corners, 3 * count);
   parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * blocks;
     for (std::size_t t = begin; t < end; ++t) {
