@@ -530,11 +530,7 @@ class VulkanBackend final : public Backend {
   // Room for the whole triangulation in both output vectors (the seam stage appends in place),
   // faulted in on all host threads and sized to it, so the read-back is one parallel copy.
   static void prepare_output(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites) {
-    reserve_full_triangulation(partial, sites, hull_sites);
-    detail::prefault_capacity(partial.triangles);
-    detail::prefault_capacity(partial.neighbors);
-    partial.triangles.resize(partial.triangles.capacity());
-    partial.neighbors.resize(partial.neighbors.capacity());
+    allocate_full_triangulation(partial, sites, hull_sites);
   }
 
   void grow_stars(const GrowInput& input, GrowResult& result) {
