@@ -9,8 +9,7 @@ layout(local_size_x_id = 0) in;
 // Per case: 4 points (8 doubles).
 layout(std430, set = 0, binding = 0) readonly buffer Cases { double cases[]; };
 // Per case: 8 ints: orient filter, orient certified, orient device, incircle filter,
-// incircle certified, incircle device, incircle perturbed, and the apex search's filters
-// (ApexKey, relative to a) packed as 4 (orient2d(a, b, d) + 1) + incircle(a, b, c, d) + 1.
+// incircle certified, incircle device, incircle perturbed, reserved.
 layout(std430, set = 0, binding = 1) writeonly buffer Signs { int signs[]; };
 // Per case: 4 doubles: two_sum(x0, y0) error, two_product(x0, y0) result and error,
 // and x0 * y0 + x1 evaluated under `precise` (must not be an fma).
@@ -35,9 +34,7 @@ void main() {
   signs[8 * i + 5] = incircle_device(a, b, c, d);
   int o = orient2d_device(a, b, c);
   signs[8 * i + 6] = o == 1 ? incircle_perturbed_device(a, b, c, d) : 0;
-  precise dvec2 b_rel = b - a, c_rel = c - a, d_rel = d - a;
-  ApexKey kc = apex_key(b_rel, c_rel), kd = apex_key(b_rel, d_rel);
-  signs[8 * i + 7] = 4 * (orient_of_key(kd) + 1) + incircle_of_keys(kc, kd) + 1;
+  signs[8 * i + 7] = 0;
   double e;
   two_sum(a.x, a.y, e);
   eft[4 * i + 0] = e;

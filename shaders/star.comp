@@ -170,10 +170,7 @@ void main() {
   // Best candidate so far.
   int best = -1;
   dvec2 best_p = ps;
-  // The filters' view of the edge and the best candidate (predicates.glsl, ApexKey): b - a, and
-  // the best's key, whose lift is its squared distance to s in the nearest-neighbour search.
-  dvec2 edge = dvec2(0.0lf);
-  ApexKey best_key = ApexKey(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 1.0lf);
+  double best_d2 = 0.0lf;
   // Boxes: visited (done), target (being scanned: target minus visited, row segment by row
   // segment; segment `part` 0 is left of the visited box or the whole row, 1 right of it).
   ivec2 vlo = ivec2(NONE_BELOW), vhi = ivec2(-NONE_BELOW);
@@ -218,13 +215,10 @@ void main() {
           if (--budget < 0) break;
           int ip = slot;  // sites are stored sorted by cell
           dvec2 p = site_at(ip);
-          // Relative to a, which is s in the nearest-neighbour search: the key's lift is
-          // |p - s|^2 there.
-          precise dvec2 d_rel = p - pa;
-          ApexKey key = apex_key(edge, d_rel);
-          double d2 = key.lift, best_d2 = best_key.lift;
-          int o = orient_of_key(key);
-          int ic = incircle_of_keys(best_key, key);
+          precise dvec2 d = p - ps;
+          precise double d2 = d.x * d.x + d.y * d.y;
+          int o = orient2d_filter(pa, pb, p);
+          int ic = incircle_filter(pa, pb, best_p, p);
           // 0: reject, 1: better than the best, 2: the filters cannot tell. A restart may
           // visit best again; a, b (or s) are never candidates.
           int verdict = phase == PHASE_NEAREST
@@ -235,7 +229,7 @@ void main() {
           bool better = verdict == 1;
           best = better ? ip : best;
           best_p = better ? p : best_p;
-          if (better) best_key = key;
+          best_d2 = better ? d2 : best_d2;
           // Leave to decide exactly, or, when a large box was planned from a worse
           // candidate's region, to plan again.
           if (verdict == 2 || (better && big_scan)) {
@@ -267,7 +261,7 @@ void main() {
       } else {
         ivec2 rlo, rhi;
         if (phase == PHASE_NEAREST) {
-          double reach = sqrt(best_key.lift) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
+          double reach = sqrt(best_d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
           rlo = cell_of(ps - dvec2(reach));
           rhi = cell_of(ps + dvec2(reach));
         } else {
@@ -334,7 +328,6 @@ void main() {
       pa = phase == PHASE_CCW ? ps : pv;
       pb = phase == PHASE_CCW ? pv : ps;
       best = -1;
-      edge = pb - pa;
       vlo = ivec2(NONE_BELOW);
       vhi = ivec2(-NONE_BELOW);
       // First box: half-width |ab|_1 / 2 around the point |ab| / 2 left of the midpoint, a guess
@@ -373,10 +366,10 @@ void main() {
       break;
     }
     if (verdict == 1) {
-      precise dvec2 d_rel = p - pa;
+      precise dvec2 d = p - ps;
       best = ip;
       best_p = p;
-      best_key = apex_key(edge, d_rel);
+      best_d2 = d.x * d.x + d.y * d.y;
     }
     slot = ip + 1;
     pending = -1;

@@ -51,59 +51,6 @@ int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   return UNCERTAIN;
 }
 
-// The apex search's filters (exact_arith.hpp, ApexKey, where the identity and the error bound
-// are argued): each candidate's key, relative to the edge's start a, formed once; the orient test
-// reads it, the incircle test against the best apex takes two products, and making a candidate
-// the best is a copy of its key. The host's operations in the host's order, so both decide
-// alike. The backend's input rule ([2^-200, 2^200], below) keeps every difference normal, and
-// the trust rules hold where a device flushes subnormal products to zero.
-const double ORIENT_FILTER_BOUND = 3.330669073875503e-16lf;  // ORIENT_BOUND + 2^-98
-const double INCIRCLE_KEYS_BOUND = 1.7763568394002505e-15lf;  // 16 EPS
-const double LOSSES_WEIGHT = 1.1830521861667747e-271lf;       // 2^-900
-
-struct ApexKey {
-  double lift;     // |d'|^2
-  double num;      // |d'|^2 - b'.d'
-  double den;      // b' x d'
-  double num_abs;  // |d'|^2 + |b'x d'x| + |b'y d'y|
-  double den_abs;  // |b'x d'y| + |b'y d'x|
-  double spread;   // 1 + num_abs + den_abs
-};
-
-// b_rel = b - a, d_rel = d - a.
-ApexKey apex_key(dvec2 b_rel, dvec2 d_rel) {
-  precise double lift = d_rel.x * d_rel.x + d_rel.y * d_rel.y;
-  precise double bxdx = b_rel.x * d_rel.x, bydy = b_rel.y * d_rel.y;
-  precise double num = lift - (bxdx + bydy);
-  precise double left = b_rel.x * d_rel.y, right = b_rel.y * d_rel.x;
-  precise double den = left - right;
-  precise double num_abs = lift + (mag(bxdx) + mag(bydy));
-  precise double den_abs = mag(left) + mag(right);
-  precise double spread = (num_abs + den_abs) + 1.0lf;
-  return ApexKey(lift, num, den, num_abs, den_abs, spread);
-}
-
-// Sign of orient2d(a, b, d), or UNCERTAIN.
-int orient_of_key(ApexKey d) {
-  precise double bound = ORIENT_FILTER_BOUND * d.den_abs;
-  if (!(d.den_abs >= LOSSES_WEIGHT)) return UNCERTAIN;  // 2^-900: losses within the widening
-  if (d.den > bound) return 1;
-  if (-d.den > bound) return -1;
-  return UNCERTAIN;
-}
-
-// Sign of incircle(a, b, c, d) from the keys of c and d, or UNCERTAIN.
-int incircle_of_keys(ApexKey c, ApexKey d) {
-  precise double det = d.den * c.num - d.num * c.den;
-  precise double permanent = d.den_abs * c.num_abs + d.num_abs * c.den_abs;
-  precise double losses = (c.spread * d.spread) * LOSSES_WEIGHT;
-  precise double bound = INCIRCLE_KEYS_BOUND * permanent;
-  if (!(losses <= permanent)) return UNCERTAIN;
-  if (det > bound) return 1;
-  if (-det > bound) return -1;
-  return UNCERTAIN;
-}
-
 bool in_safe_range(double v) {
   double m = mag(v);
   // [2^-200, 2^200]

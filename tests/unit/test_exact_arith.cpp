@@ -194,49 +194,6 @@ TEST_CASE("filters are never wrong when they decide", "[exact]") {
   CHECK(exact::incircle_filter(1e200, 0, 0, 1e200, -1e200, 0, 0, 0) == exact::uncertain);
 }
 
-/// The apex search's filters (exact_arith.hpp, ApexKey) on the points p (a, b, c, d): the signs
-/// of orient2d(a, b, d) and incircle(a, b, c, d), every point rounded relative to a.
-std::pair<int, int> apex_filter_signs(const double* p) {
-  using exact::sub;
-  const double bx = sub(p[2], p[0]), by = sub(p[3], p[1]);
-  const exact::ApexKey c = exact::apex_key(bx, by, sub(p[4], p[0]), sub(p[5], p[1]));
-  const exact::ApexKey d = exact::apex_key(bx, by, sub(p[6], p[0]), sub(p[7], p[1]));
-  return {exact::orient_of_key(d), exact::incircle_of_keys(c, d)};
-}
-
-TEST_CASE("the apex search's filters are never wrong when they decide", "[exact]") {
-  long decided[5] = {}, total[5] = {};
-  for (int family = 0; family < 5; ++family)
-    for (int i = 0; i < 20000; ++i) {
-      double p[8];
-      if (family < 4) {
-        adversarial_incircle(family, p);
-      } else {
-        // Magnitudes from subnormal to huge: products underflow or overflow.
-        const int exponent = integer(-1074, 1000);
-        for (double& v : p) v = std::ldexp(uniform(-1, 1), exponent + integer(-3, 3));
-      }
-      if (family == 1 && i % 2) {
-        // d nudged onto the line a-b (orient's hard case).
-        const double t = uniform(-1, 2);
-        p[6] = nudged(p[0] + t * (p[2] - p[0]));
-        p[7] = nudged(p[1] + t * (p[3] - p[1]));
-      }
-      const auto [orient, incircle] = apex_filter_signs(p);
-      if (orient != exact::uncertain) REQUIRE(orient == reference_orient2d(p[0], p[1], p[2], p[3], p[6], p[7]));
-      if (incircle != exact::uncertain) REQUIRE(incircle == reference_incircle(p));
-      decided[family] += (orient != exact::uncertain) + (incircle != exact::uncertain);
-      total[family] += 2;
-    }
-  // Well-conditioned inputs are decided: the filters are not "uncertain" everywhere.
-  CHECK(decided[0] > total[0] * 9 / 10);
-  CHECK(decided[1] < total[1]);
-  const double huge = std::numeric_limits<double>::max();
-  const double overflow[8] = {huge, 0, -huge, 1, 0, -huge, 1e300, 1e300};
-  CHECK(apex_filter_signs(overflow).first == exact::uncertain);
-  CHECK(apex_filter_signs(overflow).second == exact::uncertain);
-}
-
 TEST_CASE("the exactness certificate decides integer inputs and is never wrong", "[exact]") {
   long integer_decided = 0, integer_total = 0;
   for (int family = 0; family < 4; ++family)
