@@ -7,8 +7,8 @@
 #
 # Steps (each under its own time limit, so one hang cannot eat the whole call):
 #   env          nvidia-smi, vulkan device list                 -> env.txt
-#   tests        CUDA tests, conformance on CUDA and on Vulkan   -> tests.log
-#                (Vulkan with the Khronos validation layer carried in .devrun/layers)
+#   tests        CUDA tests, conformance on CUDA and on Vulkan, the Vulkan test suites
+#                (Vulkan with the Khronos validation layer carried in .devrun/layers) -> tests.log
 #   sanitizer    compute-sanitizer memcheck/racecheck/initcheck/synccheck on the small cases
 #                                                                -> sanitizer.log
 #   bench-cuda   expanse_bench_cuda 512^2 .. 4096^2 x 4 distributions
@@ -59,6 +59,7 @@ for what in "$@"; do
       step "cuda: backend" 300 "$log" "$bin/expanse_cuda_tests"
       step "conformance: cuda" 420 "$log" "$bin/expanse_conformance" --backend cuda
       EXPANSE_VULKAN_VALIDATION=1 step "conformance: vulkan" 420 "$log" "$bin/expanse_conformance" --backend vulkan
+      EXPANSE_VULKAN_VALIDATION=1 step "vulkan: all suites" 300 "$log" "$bin/expanse_vulkan_tests" all
       ;;
     sanitizer)
       log="$out/sanitizer.log"

@@ -1,8 +1,12 @@
 #pragma once
 // A minimal harness: these tests must be able to say "skipped" (exit 77) before any check runs,
 // which is simplest without a framework.
+#include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
+
+#include "expanse/types.hpp"
 
 namespace expanse::vulkan_tests {
 
@@ -23,6 +27,14 @@ Tally& tally();
       }                                                             \
     }                                                               \
   } while (0)
+
+/// Triangles in a comparable form: each rotated to start at its smallest vertex, all sorted (the
+/// backends' output order depends on atomics).
+inline std::vector<Triangle> canonical(std::vector<Triangle> triangles) {
+  for (Triangle& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
 
 void test_predicates();
 void test_eft();

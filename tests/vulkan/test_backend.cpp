@@ -21,12 +21,6 @@
 namespace expanse::vulkan_tests {
 namespace {
 
-std::vector<Triangle> canonical(std::vector<Triangle> triangles) {
-  for (Triangle& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-  std::sort(triangles.begin(), triangles.end());
-  return triangles;
-}
-
 struct Input {
   std::string name;
   std::vector<Point2> points;

@@ -21,12 +21,6 @@
 namespace expanse::vulkan_tests {
 namespace {
 
-std::vector<Triangle> canonical(std::vector<Triangle> triangles) {
-  for (Triangle& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-  std::sort(triangles.begin(), triangles.end());
-  return triangles;
-}
-
 // The host's counting sort, written plainly: cell = clamp(floor((x - origin) * inv_width)),
 // the rule of shaders/include/cells.glsl (this file builds with -ffp-contract=off).
 detail::vk::DeviceBuckets bucket_reference(const detail::SiteSet& sites, const detail::Hull& hull, int cells) {
