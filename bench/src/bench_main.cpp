@@ -46,6 +46,7 @@ struct Config {
   std::vector<std::size_t> sizes;
   std::vector<std::string> layouts;
   std::vector<int> threads;
+  std::vector<double> sites_per_bucket;  ///< the per-site layout's grid densities to sweep
   int warmup = 1;
   int repetitions = 5;
   double max_seconds = 60.0;
@@ -195,9 +196,12 @@ void run_expanse(const RunContext& context, const Config& config, const std::str
   } else {
     for (const auto& label : config.layouts) {
       for (int threads : config.threads) {
-        expanse::Layout layout = label == "paper" ? expanse::Layout::paper() : expanse::Layout{};
-        layout.threads_per_block = threads;
-        layouts.emplace_back(label, layout);
+        for (double density : config.sites_per_bucket) {
+          expanse::Layout layout = label == "paper" ? expanse::Layout::paper() : expanse::Layout{};
+          layout.threads_per_block = threads;
+          if (density > 0) layout.sites_per_bucket = density;
+          layouts.emplace_back(label, layout);
+        }
       }
     }
   }
@@ -411,6 +415,7 @@ int main(int argc, char** argv) {
   std::string sizes = "1e4";
   std::string layouts = "default";
   std::string threads = "0";
+  std::string densities = "0";
 
   CLI::App app{"Expanse benchmarks: Expanse's backends and peers on the same points, JSON out"};
   app.add_option("--experiment", config.experiment, "label stored in every record (peers, threads, ...)");
@@ -423,6 +428,9 @@ int main(int argc, char** argv) {
   app.add_option("--layouts", layouts, "GPU layouts: default (per-site seeding), paper")
       ->capture_default_str();
   app.add_option("--threads", threads, "GPU threads per block to sweep; 0 = the backend's choice")
+      ->capture_default_str();
+  app.add_option("--sites-per-bucket", densities,
+                 "per-site layout: mean sites per grid cell to sweep; 0 = the layout's default")
       ->capture_default_str();
   app.add_option("--warmup", config.warmup, "untimed runs before the timed ones")->capture_default_str();
   app.add_option("-r,--reps", config.repetitions, "timed repetitions (median reported)")->capture_default_str();
@@ -445,6 +453,7 @@ int main(int argc, char** argv) {
     for (const auto& size : bench::split_list(sizes)) config.sizes.push_back(bench::parse_count(size));
     config.layouts = bench::split_list(layouts);
     for (const auto& t : bench::split_list(threads)) config.threads.push_back(std::stoi(t));
+    for (const auto& d : bench::split_list(densities)) config.sites_per_bucket.push_back(std::stod(d));
     for (const auto& layout : config.layouts)
       if (layout != "default" && layout != "paper")
         throw std::invalid_argument("unknown layout " + layout + " (default, paper)");
