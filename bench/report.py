@@ -433,12 +433,16 @@ def star_work_section(records):
                                                           ("deferred_no_apex", "no apex")) if r.get(k)]
             share = r["deferred"] / r["sites"] if r["sites"] else 0.0
             # Records from before the box scans (star_scan.cuh) have no "search": they are rings.
+            # Lane shares came with session 4's records; older ones have none.
+            lanes = (f"{r['lane_share_8']:.2f} / {r['lane_share_32']:.2f}" if "lane_share_8" in r else "–")
             rows.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), r.get("search", "rings"),
-                         f"{r['predicates_per_site']:.1f}",
+                         f"{r.get('budget', 0):,}", f"{r['predicates_per_site']:.1f}",
                          f"{r['work_per_site']:.1f}", f"{r['max_work']:,}", f"{r['sites_over_4096']:,}",
-                         f"{r['deferred']:,} ({share:.3%})" + (f": {', '.join(reasons)}" if reasons else "")])
-        out.append(table(["distribution", "n", "grid", "search", "predicates / site", "cells + sites / site",
-                          "max one site", "sites > 4096", "sites deferred"], rows))
+                         f"{r['deferred']:,} ({share:.3%})" + (f": {', '.join(reasons)}" if reasons else ""),
+                         lanes])
+        out.append(table(["distribution", "n", "grid", "search", "budget", "predicates / site",
+                          "cells + sites / site", "max one site", "sites > 4096", "sites deferred",
+                          "lane share 8 / 32"], rows))
     return "\n".join(out) if out else NOT_MEASURED
 
 

@@ -31,6 +31,12 @@ struct StarWorkTotals {
   std::uint64_t deferred_undecided = 0;  ///< by reason (DeferReason); budget overruns count here
   std::uint64_t deferred_full_row = 0;
   std::uint64_t deferred_no_apex = 0;
+  /// Lock-step cost: over consecutive groups of 8 (lavapipe's SIMD batch) or 32 (a warp) sites
+  /// in walk order, the sum of each group's most work. work / (group size * this) is the share
+  /// of the lanes' time spent on their own site's work when a group runs until its slowest
+  /// lane is done.
+  std::uint64_t lockstep_work_8 = 0;
+  std::uint64_t lockstep_work_32 = 0;
 };
 
 class HostStarLayout {
@@ -93,6 +99,7 @@ class HostStarLayout {
     info_.assign(n, 0);
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
+    std::vector<std::uint32_t> work_of(n, 0);
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
       for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
@@ -101,6 +108,7 @@ class HostStarLayout {
                                ? walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i), row, budget)
                                : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
         ++totals.sites;
+        work_of[i] = w.work;
         totals.predicates += w.predicates;
         totals.work += w.work;
         totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
@@ -134,6 +142,14 @@ class HostStarLayout {
       totals.deferred_full_row += t.deferred_full_row;
       totals.deferred_no_apex += t.deferred_no_apex;
     }
+    auto lockstep = [&](std::size_t group) {
+      std::uint64_t sum = 0;
+      for (std::size_t first = 0; first < n; first += group)
+        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(n, first + group));
+      return sum;
+    };
+    totals.lockstep_work_8 = lockstep(8);
+    totals.lockstep_work_32 = lockstep(32);
     return totals;
   }
 

@@ -62,6 +62,8 @@ int main(int argc, char** argv) {
             {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
+            {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},
+            {"lane_share_32", double(t.work) / (32.0 * double(t.lockstep_work_32))},
             {"sites_over_4096", t.sites_over_4096}, {"sites_over_budget", t.sites_over_budget},
             {"deferred", t.deferred}, {"deferred_undecided", t.deferred_undecided},
             {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex},
