@@ -105,11 +105,13 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   if constexpr (By == Walker::warp) {
     if ((threadIdx.x & 31) != 0) return;  // the rest is one site's, done once
   }
-  if (pass != WalkPass::retry && cells > 4096) atomicAdd(counters + 5, 1u);
+  // Counted on a site's last walk: the second pass's for a site the first pass hands on.
+  const bool walked_again = pass == WalkPass::first && !w.ok && cells > budget;
+  if (!walked_again && cells > 4096) atomicAdd(counters + 5, 1u);
   if (!w.ok) {
     info[i] = kDeferredBit;
     owned[i] = 0;
-    if (pass == WalkPass::first && cells > budget) {
+    if (walked_again) {
       retry_list[atomicAdd(counters + 7, 1u)] = i;
       return;
     }
@@ -474,11 +476,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   std::size_t open_pairs_linked = 0;
   if (with_neighbors && triangle_count > 0) {
     timer.begin("audit");
+    // Counts into d_counters[0..1]; with open_keys, lists the open edges too (d_counters[2]).
+    auto audit = [&](std::uint64_t* open_keys, int* open_slots) {
+      audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
+          d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
+          d_counters.get(), open_keys, open_slots);
+      EXPANSE_CUDA(cudaGetLastError());
+    };
     EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-    audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
-        d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-        d_counters.get(), nullptr, nullptr);
-    EXPANSE_CUDA(cudaGetLastError());
+    audit(nullptr, nullptr);
     EXPANSE_CUDA(cudaMemcpyAsync(&words[8], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                  stream));
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
@@ -488,10 +494,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
       // Open edges inside the hull: listed with where they are, sorted, and the pairs linked.
       DeviceArray<std::uint64_t> d_open(open, stream), d_open_sorted(open, stream);
       DeviceArray<int> d_slots(open, stream), d_slots_sorted(open, stream);
-      audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
-          d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-          d_counters.get(), d_open.get(), d_slots.get());
-      EXPANSE_CUDA(cudaGetLastError());
+      audit(d_open.get(), d_slots.get());
       std::size_t bytes = 0;
       EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, d_open.get(), d_open_sorted.get(), d_slots.get(),
                                                    d_slots_sorted.get(), static_cast<int>(open), 0, 64, stream));
@@ -507,10 +510,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
       EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
       EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-      audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
-          d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-          d_counters.get(), nullptr, nullptr);
-      EXPANSE_CUDA(cudaGetLastError());
+      audit(nullptr, nullptr);
       EXPANSE_CUDA(cudaMemcpyAsync(&words[14], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
@@ -540,7 +540,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   RunCounters& counters = last_run_counters();
   counters = {};
   counters.open_pairs_linked = open_pairs_linked;
-  counters.adjacency_audited = audited;
   std::uint64_t predicates = 0;
   std::memcpy(&predicates, &sizes[3], sizeof predicates);
   counters.predicates = predicates;

@@ -240,6 +240,32 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     return false;
   };
 #if defined(__CUDACC__)
+  // The warp's lanes test one candidate each (a lane whose `valid` is false, none), in the
+  // thread's order. `seen`: how many the thread would have tested, up to and including the first
+  // flagged one (else `available`, at most 32); predicates are counted the same way. `first`: that
+  // lane (-1: none flagged), with its verdict, point and squared distance broadcast to all lanes.
+  struct LaneTest {
+    unsigned seen;
+    int first, verdict;
+    double2 p;
+    double d2;
+  };
+  auto test_lanes = [&](bool valid, std::uint32_t candidate, unsigned available) {
+    double2 p = best_p;
+    double d2 = 0.0;
+    const unsigned saved = predicates;
+    const int verdict = valid ? judge(static_cast<int>(candidate), p, d2) : 0;
+    const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
+    LaneTest t{flagged ? static_cast<unsigned>(__ffs(flagged)) : min(32u, available), -1, 0, p, d2};
+    if ((threadIdx.x & 31) >= t.seen) predicates = saved;
+    if (flagged) {
+      t.first = static_cast<int>(t.seen) - 1;
+      t.verdict = __shfl_sync(0xffffffffu, verdict, t.first);
+      t.p = make_double2(__shfl_sync(0xffffffffu, p.x, t.first), __shfl_sync(0xffffffffu, p.y, t.first));
+      t.d2 = __shfl_sync(0xffffffffu, d2, t.first);
+    }
+    return t;
+  };
   // The warp's row fetch: lane k takes row y + 1 + k (up to 32 rows, not past the target box),
   // both its parts, and the lanes then test the rows' candidates 32 at a time in the thread's
   // order. The first flagged candidate leaves the walk where the thread would stand on meeting
@@ -275,40 +301,30 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         const unsigned probe = __shfl_sync(0xffffffffu, ends, owner + stride - 1);
         if (probe <= j) owner += stride;
       }
-      owner = min(owner, 31);
       const unsigned owner_end = __shfl_sync(0xffffffffu, ends, owner);
       const unsigned owner_len = __shfl_sync(0xffffffffu, len, owner);
       const unsigned owner_len_a = __shfl_sync(0xffffffffu, len_a, owner);
       const std::uint32_t owner_a0 = __shfl_sync(0xffffffffu, a0, owner), owner_b0 = __shfl_sync(0xffffffffu, b0, owner);
       const unsigned k = j - (owner_end - owner_len);
       const std::uint32_t candidate = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
-      double2 p = best_p;
-      double d2 = 0.0;
-      const unsigned saved = predicates;
-      const int verdict = j < total ? judge(static_cast<int>(candidate), p, d2) : 0;
-      const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
-      const unsigned seen = flagged ? __ffs(flagged) : min(32u, total - base);
-      if (lane >= seen) predicates = saved;  // count what the thread would have tested
-      if (!flagged) continue;
+      const LaneTest t = test_lanes(j < total, candidate, total - base);
+      if (t.first < 0) continue;
       // The thread would stand at the flagged candidate's row and part, having set up every
       // segment before it and tested every candidate before it.
-      const int first = static_cast<int>(seen) - 1;
+      const int first = t.first;
       const int at_owner = __shfl_sync(0xffffffffu, owner, first);
       const unsigned at_k = __shfl_sync(0xffffffffu, k, first);
       const unsigned owner_steps_before = __shfl_sync(0xffffffffu, step_ends - steps, at_owner);
       const unsigned at_len_a = __shfl_sync(0xffffffffu, len_a, at_owner);
       const int at_part = at_k < at_len_a ? 0 : 1;
       const std::uint32_t at_a1 = __shfl_sync(0xffffffffu, a1, at_owner), at_b1 = __shfl_sync(0xffffffffu, b1, at_owner);
-      work += owner_steps_before + static_cast<unsigned>(at_part + 1) + base + seen;
+      work += owner_steps_before + static_cast<unsigned>(at_part + 1) + base + t.seen;
       y = y + 1 + at_owner;
       part = at_part;
       const int ip = static_cast<int>(__shfl_sync(0xffffffffu, candidate, first));
       slot_end = at_part == 0 ? at_a1 : at_b1;
       slot = static_cast<std::uint32_t>(ip);
-      const int v = __shfl_sync(0xffffffffu, verdict, first);
-      const double2 q = make_double2(__shfl_sync(0xffffffffu, p.x, first), __shfl_sync(0xffffffffu, p.y, first));
-      const double q2 = __shfl_sync(0xffffffffu, d2, first);
-      if (!take(ip, v, q, q2)) ++slot;
+      if (!take(ip, t.verdict, t.p, t.d2)) ++slot;
       return;
     }
     // None flagged: after the last row, as the thread would leave it.
@@ -360,26 +376,16 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
             const unsigned lane = threadIdx.x & 31;
             while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
               const std::uint32_t mine = slot + lane;
-              double2 p = best_p;
-              double d2 = 0.0;
-              const unsigned saved = predicates;
-              const int verdict = mine < slot_end ? judge(static_cast<int>(mine), p, d2) : 0;
-              const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
-              const std::uint32_t seen = flagged ? __ffs(flagged) : min(32u, slot_end - slot);
-              if (lane >= seen) predicates = saved;  // count what the thread would have tested
-              work += seen;
-              if (!flagged) {
-                slot += seen;
+              const LaneTest t = test_lanes(mine < slot_end, mine, slot_end - slot);
+              work += t.seen;
+              if (t.first < 0) {
+                slot += t.seen;
                 if (work > budget) break;
                 continue;
               }
-              const int first = static_cast<int>(seen) - 1;
-              const int ip = static_cast<int>(slot) + first;
-              const int v = __shfl_sync(0xffffffffu, verdict, first);
-              const double2 q = make_double2(__shfl_sync(0xffffffffu, p.x, first), __shfl_sync(0xffffffffu, p.y, first));
-              const double q2 = __shfl_sync(0xffffffffu, d2, first);
+              const int ip = static_cast<int>(slot) + t.first;
               slot = static_cast<std::uint32_t>(ip);
-              if (take(ip, v, q, q2)) break;
+              if (take(ip, t.verdict, t.p, t.d2)) break;
               ++slot;
               if (work > budget) break;
             }

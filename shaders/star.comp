@@ -35,8 +35,8 @@ layout(constant_id = 1) const int STAR_CAPACITY = 16;
 layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
 
 
-// Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a texel fetch is a
-// vector gather, where a storage-buffer load is a loop over the lanes.
+// Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
+// texel fetch is a vector gather, where a storage-buffer load is a loop over the lanes.
 layout(set = 0, binding = 0) uniform usamplerBuffer site_texels;   // RGBA32UI: one dvec2
 layout(set = 0, binding = 1) uniform isamplerBuffer cell_texels;   // R32I
 layout(set = 0, binding = 2) uniform isamplerBuffer predecessor_texels;  // R32I: hull.predecessor
@@ -77,10 +77,10 @@ const int PHASE_CW = 2;       // the walk met the hull: (v, s, apex(v->s)) clock
 const int PHASE_DONE = 3;
 const int PHASE_DEFER = 4;
 
-const int NONE_BELOW = 1 << 29;
+const int NONE_BELOW = 1 << 29;  // an empty box: lo = NONE_BELOW, hi = -NONE_BELOW
 // The nearest-neighbour search starts with the cells within this many cell widths of s (counted
 // on 200k uniform and gaussian sites: 9.4 candidates per site, where the 3x3 cells took 18.6).
-const double NN_REACH = 0.5lf;  // an empty box: lo = NONE_BELOW, hi = -NONE_BELOW
+const double NN_REACH = 0.5lf;
 
 ivec2 cell_of(dvec2 p) {
   return ivec2(cell_coord(p.x, params.origin.x, params.inv_width.x, params.cells),

@@ -527,12 +527,6 @@ class VulkanBackend final : public Backend {
     if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
   }
 
-  // Room for the whole triangulation in both output vectors (the seam stage appends in place),
-  // faulted in on all host threads and sized to it, so the read-back is one parallel copy.
-  static void prepare_output(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites) {
-    allocate_full_triangulation(partial, sites, hull_sites);
-  }
-
   void grow_stars(const GrowInput& input, GrowResult& result) {
     Context& ctx = *context_;
     const std::size_t n = std::size_t(input.sites.size());
@@ -739,7 +733,9 @@ class VulkanBackend final : public Backend {
       }
     });
     try {
-      prepare_output(partial, n, input.hull.sites.size());
+      // Room for the whole triangulation in both vectors (the seam stage appends in place),
+      // sized to it, so the read-back is one parallel copy.
+      allocate_full_triangulation(partial, n, input.hull.sites.size());
     } catch (...) {
       waiter.join();
       throw;
