@@ -262,9 +262,9 @@ int main(int argc, char** argv) {
       emit("audit", s, trusted ? "trusted" : "REJECTED", seam_info);
     }
     if (wants("derive")) {
-      std::vector<std::array<std::int32_t, 3>> derived;
+      std::vector<TriangleNeighbors> derived;
       const auto s = measure(
-          reps, [&] { std::vector<std::array<std::int32_t, 3>>().swap(derived); },
+          reps, [&] { std::vector<TriangleNeighbors>().swap(derived); },
           [&] { derived = derive_neighbors(partial.triangles); });
       emit("derive", s, Checksum{}.add(derived).hex(), seam_info);
     }
@@ -310,12 +310,12 @@ int main(int argc, char** argv) {
     }
     if (wants("alloc")) {
       std::vector<Triangle> triangles;
-      std::vector<std::array<std::int32_t, 3>> neighbors;
+      std::vector<TriangleNeighbors> neighbors;
       const auto s = measure(
           reps,
           [&] {
             std::vector<Triangle>().swap(triangles);
-            std::vector<std::array<std::int32_t, 3>>().swap(neighbors);
+            std::vector<TriangleNeighbors>().swap(neighbors);
           },
           [&] {
             triangles.resize(full.size());
@@ -327,7 +327,7 @@ int main(int argc, char** argv) {
           reps,
           [&] {
             std::vector<Triangle>().swap(triangles);
-            std::vector<std::array<std::int32_t, 3>>().swap(neighbors);
+            std::vector<TriangleNeighbors>().swap(neighbors);
           },
           [&] {
             resize_prefaulted(triangles, full.size());

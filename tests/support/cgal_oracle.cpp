@@ -109,8 +109,8 @@ OracleResult cgal_delaunay(std::span<const Point2> points) {
   return result;
 }
 
-std::vector<std::array<std::int32_t, 3>> compute_neighbors(std::span<const Triangle> triangles) {
-  std::vector<std::array<std::int32_t, 3>> neighbors(triangles.size(), {no_neighbor, no_neighbor, no_neighbor});
+std::vector<TriangleNeighbors> compute_neighbors(std::span<const Triangle> triangles) {
+  std::vector<TriangleNeighbors> neighbors(triangles.size(), {no_neighbor, no_neighbor, no_neighbor});
   // Directed edges grouped by origin (CSR); the twin of a->b is a short scan of b's edges.
   std::int32_t n = 0;
   for (const auto& t : triangles) n = std::max({n, t[0] + 1, t[1] + 1, t[2] + 1});

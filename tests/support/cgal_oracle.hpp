@@ -36,7 +36,7 @@ Mesh mesh_from_oracle(const OracleResult& oracle);
 
 /// neighbors[t][k] = the triangle across the edge opposite triangles[t][k], or no_neighbor.
 /// Edges shared by more than two triangles get an arbitrary partner (garbage in, garbage out).
-std::vector<std::array<std::int32_t, 3>> compute_neighbors(std::span<const Triangle> triangles);
+std::vector<TriangleNeighbors> compute_neighbors(std::span<const Triangle> triangles);
 
 /// Rotates each triangle so its smallest index comes first (orientation kept), then sorts.
 std::vector<Triangle> canonical_triangles(std::span<const Triangle> triangles);

@@ -51,6 +51,6 @@ EleFile read_ele_file(const std::filesystem::path& path, int node_first_index = 
 
 /// The contents of a .neigh file: neighbour triangle ids 0-based, no_neighbor for -1.
 /// Throws like read_node_file.
-std::vector<std::array<std::int32_t, 3>> read_neigh_file(const std::filesystem::path& path);
+std::vector<TriangleNeighbors> read_neigh_file(const std::filesystem::path& path);
 
 }  // namespace expanse

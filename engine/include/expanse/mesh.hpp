@@ -39,7 +39,7 @@ struct Mesh {
   std::vector<Triangle> triangles;
   /// neighbors[t][k]: the triangle across the edge opposite triangles[t][k], or no_neighbor.
   /// Empty when Options::neighbors is false.
-  std::vector<std::array<std::int32_t, 3>> neighbors;
+  std::vector<TriangleNeighbors> neighbors;
   /// Sites on the convex hull in counter-clockwise order, collinear hull sites included.
   /// For all-collinear input: the sites in order along the line (no triangles).
   std::vector<std::int32_t> hull;

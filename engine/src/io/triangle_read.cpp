@@ -164,7 +164,7 @@ EleFile read_ele_file(const std::filesystem::path& path, int node_first_index) {
   return ele;
 }
 
-std::vector<std::array<std::int32_t, 3>> read_neigh_file(const std::filesystem::path& path) {
+std::vector<TriangleNeighbors> read_neigh_file(const std::filesystem::path& path) {
   const std::string text = io_detail::read_whole_file(path);
   TextScanner s(path.string(), text);
   if (!s.next_line()) {
@@ -177,7 +177,7 @@ std::vector<std::array<std::int32_t, 3>> read_neigh_file(const std::filesystem::
   if (per != 3) s.fail("neighbors per triangle is " + std::to_string(per) + "; must be 3");
   expect_end_of_header(s);
 
-  std::vector<std::array<std::int32_t, 3>> neighbors;
+  std::vector<TriangleNeighbors> neighbors;
   neighbors.reserve(static_cast<std::size_t>(std::min<std::int64_t>(count, text.size() / 8 + 1)));
   std::int64_t first = 0;
   for (std::int64_t i = 0; i < count; ++i) {

@@ -16,7 +16,7 @@ struct PartialTriangulation {
   std::vector<Triangle> triangles;
   /// Optional adjacency (same convention as Mesh::neighbors, no_neighbor for hull *and* open
   /// edges). Empty: the seam stage derives it.
-  std::vector<std::array<std::int32_t, 3>> neighbors;
+  std::vector<TriangleNeighbors> neighbors;
   std::size_t deferred_expansions = 0;  ///< for stats only
 };
 
@@ -31,10 +31,9 @@ inline void reserve_full_triangulation(PartialTriangulation& partial, std::size_
 }
 
 /// For backends that download into `partial`: reserve_full_triangulation, then both vectors
-/// resized to that capacity (zeroed), ready to be written and shrunk to what was made (which
-/// never moves them). Call it while the device works: the public vectors are std::vectors, so
-/// some pass has to value-initialise every element on one thread; here the pages are faulted in
-/// on all threads first and the two vectors are zeroed on two threads at once (805 MB at 4096^2).
+/// resized to that capacity, ready to be written and shrunk to what was made (which never moves
+/// them). Their ids are left unset (IdTriple), and their pages are faulted in on all threads
+/// (805 MB at 4096^2): call it while the device works, and write every id that is kept.
 void allocate_full_triangulation(PartialTriangulation& partial, std::size_t sites, std::size_t hull_sites);
 
 }  // namespace expanse::detail

@@ -102,13 +102,13 @@ class FrontGrowth {
 
 }  // namespace
 
-std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Triangle>& triangles) {
+std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& triangles) {
   // Around vertex v, the edge v->w of one triangle pairs with the edge w->v of another. Corners
   // (triangle * 3 + slot) are distributed by vertex block, stably (each chunk of triangles
   // counts, then scatters); each block then files its corners by vertex and matches each pair
   // once, at its smaller vertex. Every link is written by exactly one thread; no atomics.
   const std::size_t count = triangles.size();
-  std::vector<std::array<std::int32_t, 3>> neighbors;
+  std::vector<TriangleNeighbors> neighbors;
   resize_prefaulted(neighbors, count);
   const std::size_t chunks = chunk_count(count);
   std::vector<std::int32_t> largest(chunks, -1);

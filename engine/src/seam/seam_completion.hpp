@@ -25,6 +25,6 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
                         PartialTriangulation& mesh);
 
 /// Adjacency of a set of triangles (no_neighbor where an edge has one triangle).
-std::vector<std::array<std::int32_t, 3>> derive_neighbors(const std::vector<Triangle>& triangles);
+std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& triangles);
 
 }  // namespace expanse::detail
