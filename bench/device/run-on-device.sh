@@ -17,6 +17,10 @@
 #                scaling 32^2..4096^2 on CUDA and Vulkan (our layout), the paper's layout and
 #                the CPU backend and CGAL up to 1024^2, threads per block up to 1024^2
 #                                                                -> results/{scaling,threads}.jsonl
+#   vulkan-4096  expanse-bench scaling at 4096^2 uniform, CUDA and Vulkan (the free function per
+#                repetition, as `figures`), then Vulkan alone with its star loop budget at 65536
+#                and 262144 (default 20000): deferred sites and seam time against star time
+#                                                  -> results/vulkan-4096.jsonl, printed
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
 # EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
@@ -89,6 +93,31 @@ for what in "$@"; do
         --experiment threads --backends cuda,vulkan --dist uniform -n 256^2,512^2,1024^2 --layouts paper \
         --threads 8,16,32,64,128,256,512,1024 -r 3 --max-seconds 3 \
         "${common[@]}" -o "$out/results/threads.jsonl" ;;
+    vulkan-4096)
+      mkdir -p "$out/results"
+      bench="$bin/expanse-bench"
+      f="$out/results/vulkan-4096.jsonl"
+      EXPANSE_COMMIT="$commit" step "scaling 4096^2: cuda, vulkan" 240 "$out/experiments.log" "$bench" \
+        --experiment scaling --backends cuda,vulkan --dist uniform -n 4096^2 --layouts default \
+        -r 5 --warmup 1 --note "device run" -o "$f"
+      for budget in 65536 262144; do
+        EXPANSE_VULKAN_LOOP_BUDGET=$budget EXPANSE_COMMIT="$commit" \
+          step "scaling 4096^2: vulkan, loop budget $budget" 120 "$out/experiments.log" "$bench" \
+          --experiment scaling --backends vulkan --dist uniform -n 4096^2 --layouts default \
+          -r 3 --warmup 1 --note "device run, EXPANSE_VULKAN_LOOP_BUDGET=$budget" -o "$f"
+      done
+      python3 - "$f" <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r.get("skipped"):
+        print(r["backend"], "skipped:", r.get("reason")); continue
+    t = r["time_ms"]["total"]
+    print(f"{r['backend']:7} {r.get('note','')}: total median {t['median']:.1f} min {t['min']:.1f}  deferred {r.get('deferred')}")
+    print("   host:  ", {k: round(v, 1) for k, v in r.get("stages_ms", {}).items()})
+    print("   device:", {k: round(v, 1) for k, v in r.get("device_stages_ms", {}).items()})
+PY
+      ;;
     summary)
       python3 - "$out" <<'PY'
 import glob, json, os, sys

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
+#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
@@ -163,9 +165,79 @@ int slot_towards(const detail::PartialTriangulation& p, std::size_t t, std::int3
   return -1;
 }
 
+// The staging ring with tiny slots: pieces of odd sizes that straddle chunks and share them,
+// up to the device and back, byte for byte; more chunks than slots, so slots are reused while
+// others are in flight.
+void check_staging_ring() {
+  auto context = detail::vk::shared_context(-1);
+  std::lock_guard lock(context->mutex());
+  std::mt19937_64 rng(5);
+  for (VkDeviceSize chunk : {VkDeviceSize(64), VkDeviceSize(4096), VkDeviceSize(1) << 20}) {
+    detail::vk::StagingRing ring(*context, chunk, 3);
+    const std::size_t sizes[] = {1, 7, 4096, 100003, 3 * 4096 + 5, 0, 250000};
+    std::vector<std::vector<unsigned char>> in, out;
+    std::vector<std::unique_ptr<detail::vk::Buffer>> buffers;
+    std::vector<detail::vk::StagingRing::Upload> up;
+    std::vector<detail::vk::StagingRing::Download> down;
+    for (std::size_t size : sizes) {
+      in.emplace_back(size);
+      for (auto& b : in.back()) b = static_cast<unsigned char>(rng());
+      out.emplace_back(size, 0);
+      // At an offset inside the buffer, so that offsets are checked too.
+      buffers.push_back(std::make_unique<detail::vk::Buffer>(*context, size + 12, false));
+      up.push_back({in.back().data(), buffers.back()->handle(), 12, size});
+      down.push_back({buffers.back()->handle(), 12, out.back().data(), size});
+    }
+    ring.upload(up);
+    ring.download(down);
+    bool same = true;
+    for (std::size_t i = 0; i < in.size(); ++i) same = same && in[i] == out[i];
+    VK_CHECK_THAT(same, "staging ring, %llu-byte chunks: the round trip changed the bytes",
+                  static_cast<unsigned long long>(chunk));
+  }
+  std::printf("  staging ring: round trips through 64 B, 4 KiB and 1 MiB slots\n");
+}
+
+// The free function makes a Backend per call; on the process-wide context the second call of
+// the same size must make no buffer (the context's cache and staging ring are reused), on
+// both paths. EXPANSE_VULKAN_KEEP_MB=0 releases them after every call.
+void check_buffers_kept() {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Point2> p(70000);
+  for (auto& q : p) q = {unit(rng), unit(rng)};
+  Options vk;
+  vk.backend = BackendKind::vulkan;
+  for (const char* staged : {"0", "1"}) {
+    setenv("EXPANSE_VULKAN_STAGED", staged, 1);
+    setenv("EXPANSE_VULKAN_BUCKET", "device", 1);
+    const auto first = triangulate(p, vk);
+    const std::uint64_t before = detail::vk::Buffer::made();
+    const auto second = triangulate(p, vk);
+    const std::uint64_t made = detail::vk::Buffer::made() - before;
+    VK_CHECK_THAT(made == 0, "staged=%s: a second call of the same size made %llu buffers", staged,
+                  static_cast<unsigned long long>(made));
+    VK_CHECK_THAT(canonical(first.triangles) == canonical(second.triangles),
+                  "staged=%s: the second call's triangles differ", staged);
+    setenv("EXPANSE_VULKAN_KEEP_MB", "0", 1);
+    const auto third = triangulate(p, vk);
+    VK_CHECK_THAT(detail::vk::shared_context(-1)->buffers().bytes() == 0,
+                  "staged=%s: EXPANSE_VULKAN_KEEP_MB=0 kept buffers", staged);
+    VK_CHECK_THAT(canonical(first.triangles) == canonical(third.triangles),
+                  "staged=%s: the triangles differ with nothing kept", staged);
+    unsetenv("EXPANSE_VULKAN_KEEP_MB");
+    std::printf("  kept buffers, staged=%s: a second call made %llu buffers\n", staged,
+                static_cast<unsigned long long>(made));
+  }
+  unsetenv("EXPANSE_VULKAN_STAGED");
+  unsetenv("EXPANSE_VULKAN_BUCKET");
+}
+
 }  // namespace
 
 void test_device_passes() {
+  check_staging_ring();
+  check_buffers_kept();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);

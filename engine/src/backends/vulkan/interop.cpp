@@ -1,7 +1,7 @@
 // expanse::vulkan::Triangulator: the application's device and queue in, a Mesh or its own index
-// buffer filled out. The points are read back through a staging buffer, the pipeline runs with
-// a Vulkan backend on a Context that borrows the application's device, and the indices go back
-// through the same staging buffer.
+// buffer filled out. The points are read back through the context's staging ring (a fixed
+// 2 x 32 MiB of host-visible memory), the pipeline runs with a Vulkan backend on a Context that
+// borrows the application's device, and the indices go back through the same ring.
 // Vulkan structs are value-initialised from their sType alone ({VK_STRUCTURE_TYPE_...}).
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include "expanse/vulkan_interop.hpp"
@@ -101,17 +101,8 @@ struct Triangulator::Impl {
   std::shared_ptr<vk::Instance> instance;
   std::shared_ptr<vk::Context> context;
   std::unique_ptr<detail::Backend> backend;
-  std::unique_ptr<vk::Buffer> staging;  // host-visible, grown as needed; destroyed first
-
-  vk::Buffer& staging_for(VkDeviceSize bytes) {
-    if (!staging || staging->size() < bytes) {
-      staging.reset();
-      staging = std::make_unique<vk::Buffer>(*context, bytes, true);
-    }
-    return *staging;
-  }
-
-  // Copies count points from the application's buffer to the host.
+  // Copies count points from the application's buffer to the host, through the context's
+  // staging ring (its first command is a barrier against all earlier writes on the queue).
   std::vector<Point2> read_points(VkBuffer points, VkDeviceSize offset, std::size_t count) {
     if (count > std::size_t(std::numeric_limits<std::int32_t>::max()))
       throw Error(ErrorCode::too_large,
@@ -121,48 +112,24 @@ struct Triangulator::Impl {
     require(points != VK_NULL_HANDLE, ErrorCode::invalid_argument, "the points buffer is null");
     const VkDeviceSize bytes = VkDeviceSize(count) * sizeof(Point2);
     std::lock_guard lock(context->mutex());
-    vk::Buffer& stage = staging_for(bytes);
-    vk::Recording rec(*context);
-    VkCommandBuffer commands = rec.commands();
-    // Everything submitted earlier to this queue that wrote memory, before our read.
-    VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    before.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-    before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
-    const VkBufferCopy region{offset, 0, bytes};
-    vkCmdCopyBuffer(commands, points, stage.handle(), 1, &region);
-    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
-                         1, &after, 0, nullptr, 0, nullptr);
-    rec.submit();
-    std::memcpy(host.data(), stage.mapped(), bytes);
+    const vk::StagingRing::Download piece{points, offset, host.data(), bytes};
+    context->staging().download({&piece, 1});
     return host;
   }
 
-  // Writes the triangles (already known to fit) into the application's index buffer.
+  // Writes the triangles (already known to fit) into the application's index buffer, through
+  // the staging ring; returns when the copies are done (each chunk ends with a barrier that
+  // makes them visible to everything submitted later to the queue, index reads included).
   void write_indices(const std::vector<Triangle>& triangles, VkBuffer indices,
                      VkDeviceSize indices_offset) {
     if (triangles.empty()) return;
     static_assert(sizeof(Triangle) == 3 * sizeof(std::uint32_t));
     const VkDeviceSize bytes = VkDeviceSize(triangles.size()) * sizeof(Triangle);
     std::lock_guard lock(context->mutex());
-    vk::Buffer& stage = staging_for(bytes);
-    std::memcpy(stage.mapped(), triangles.data(), bytes);  // non-negative int32 = uint32
-    vk::Recording rec(*context);
-    VkCommandBuffer commands = rec.commands();
-    const VkBufferCopy region{0, indices_offset, bytes};
-    vkCmdCopyBuffer(commands, stage.handle(), indices, 1, &region);
-    // Visible to everything submitted later to this queue (index reads included).
-    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    after.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &after, 0, nullptr, 0,
-                         nullptr);
-    rec.submit();
+    // Non-negative int32 = uint32.
+    const vk::StagingRing::Upload piece{triangles.data(), indices, indices_offset, bytes};
+    context->staging().upload({&piece, 1});
+    context->staging().wait_idle();
   }
 
   Mesh run(VkBuffer points, VkDeviceSize offset, std::size_t count, const Options& run_options) {

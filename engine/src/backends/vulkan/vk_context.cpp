@@ -7,6 +7,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "input/parallel.hpp"
+
 namespace expanse::detail::vk {
 
 const char* result_name(VkResult result) {
@@ -338,6 +340,7 @@ Context::Context(std::shared_ptr<Instance> instance, const PhysicalDevice& physi
 }
 
 void Context::create_common() {
+  cache_ = std::make_unique<BufferCache>(*this);
   if (queue_ == VK_NULL_HANDLE) vkGetDeviceQueue(device_, physical_.queue_family, 0, &queue_);
   vkGetPhysicalDeviceMemoryProperties(physical_.handle, &memory_);
   VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -360,6 +363,8 @@ void Context::release() {
   // A borrowed device's queues belong to the application (and must be externally
   // synchronised): nothing of ours is in flight there, so do not touch them.
   if (owned_) vkDeviceWaitIdle(device_);
+  staging_.reset();  // waits for its chunks in flight; frees its command buffers
+  cache_.reset();
   kernels_.clear();
   if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
   if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
@@ -406,7 +411,236 @@ Kernel& Context::kernel(const std::string& name, std::span<const std::uint32_t> 
   return *kernels_.back().second;
 }
 
+StagingRing& Context::staging() {
+  if (!staging_) {
+    // 2 x 32 MiB, as the CUDA backend's pinned staging; EXPANSE_VULKAN_STAGING_MB sets a slot's
+    // size (experiments).
+    VkDeviceSize chunk = VkDeviceSize(32) << 20;
+    if (const char* env = std::getenv("EXPANSE_VULKAN_STAGING_MB"))
+      chunk = VkDeviceSize(std::max(1L, std::atol(env))) << 20;
+    staging_ = std::make_unique<StagingRing>(*this, chunk, 2);
+  }
+  return *staging_;
+}
+
+void Context::wait_staging() {
+  if (staging_) staging_->wait_idle();
+}
+
+VkDeviceSize Context::keep_bytes() const {
+  if (const char* env = std::getenv("EXPANSE_VULKAN_KEEP_MB"); env && *env)
+    return VkDeviceSize(std::max(0L, std::atol(env))) << 20;
+  VkDeviceSize heap = 0;
+  for (std::uint32_t i = 0; i < memory_.memoryHeapCount; ++i)
+    if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      heap = std::max(heap, memory_.memoryHeaps[i].size);
+  return heap / 4;
+}
+
+// ---- BufferCache ------------------------------------------------------------------------------
+
+Buffer& BufferCache::get(std::size_t slot, VkDeviceSize bytes, bool host_visible) {
+  if (slot >= slots_.size()) slots_.resize(slot + 1);
+  std::unique_ptr<Buffer>& kept = slots_[slot];
+  if (!kept || kept->size() < bytes || (kept->mapped() != nullptr) != host_visible) {
+    if (kept) context_.wait_staging();  // no copy may still be reading or writing it
+    kept.reset();  // the old one goes first: both need not fit at once
+    kept = std::make_unique<Buffer>(context_, bytes, host_visible);
+  }
+  return *kept;
+}
+
+VkDeviceSize BufferCache::bytes() const {
+  VkDeviceSize total = 0;
+  for (const auto& b : slots_)
+    if (b) total += b->size();
+  return total;
+}
+
+void BufferCache::trim(VkDeviceSize limit) {
+  if (bytes() > limit) clear();
+}
+
+void BufferCache::clear() {
+  context_.wait_staging();
+  slots_.clear();
+}
+
+// ---- StagingRing ------------------------------------------------------------------------------
+
+namespace {
+
+// memcpy in one sequential stream per host thread (1 MiB at least each).
+void copy_on_threads(void* to, const void* from, std::size_t bytes) {
+  detail::parallel_chunks(bytes, detail::chunk_count(bytes, std::size_t(1) << 20),
+                          [&](std::size_t, std::size_t begin, std::size_t end) {
+                            std::memcpy(static_cast<char*>(to) + begin,
+                                        static_cast<const char*>(from) + begin, end - begin);
+                          });
+}
+
+// The pieces cut into chunks of at most `chunk` bytes, packed: (piece, offset in the piece,
+// offset in the chunk, bytes) per part.
+struct Part {
+  std::size_t piece;
+  VkDeviceSize at, ring_at, bytes;
+};
+template <class Piece>
+std::vector<std::vector<Part>> plan_chunks(std::span<const Piece> pieces, VkDeviceSize chunk) {
+  std::vector<std::vector<Part>> chunks;
+  VkDeviceSize used = chunk;  // the current chunk is full: start a new one
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (VkDeviceSize at = 0; at < pieces[p].bytes;) {
+      if (used == chunk) {
+        chunks.emplace_back();
+        used = 0;
+      }
+      const VkDeviceSize bytes = std::min(chunk - used, pieces[p].bytes - at);
+      chunks.back().push_back({p, at, used, bytes});
+      at += bytes;
+      used += bytes;
+    }
+  return chunks;
+}
+
+}  // namespace
+
+StagingRing::StagingRing(Context& context, VkDeviceSize chunk_bytes, std::uint32_t slots)
+    : context_(context), chunk_(chunk_bytes), slots_(std::max(2u, slots)) {
+  try {
+    for (Slot& slot : slots_) {
+      slot.buffer = std::make_unique<Buffer>(context, chunk_, true);
+      VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+      allocate.commandPool = context.command_pool();
+      allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+      allocate.commandBufferCount = 1;
+      check(vkAllocateCommandBuffers(context.device(), &allocate, &slot.commands),
+            "vkAllocateCommandBuffers");
+      VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+      check(vkCreateFence(context.device(), &fence, nullptr, &slot.fence), "vkCreateFence");
+    }
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+StagingRing::~StagingRing() { release(); }
+
+void StagingRing::release() {
+  for (Slot& slot : slots_) {
+    if (slot.pending && slot.fence != VK_NULL_HANDLE)
+      vkWaitForFences(context_.device(), 1, &slot.fence, VK_TRUE, UINT64_MAX);
+    slot.pending = false;
+    if (slot.fence != VK_NULL_HANDLE) vkDestroyFence(context_.device(), slot.fence, nullptr);
+    if (slot.commands != VK_NULL_HANDLE)
+      vkFreeCommandBuffers(context_.device(), context_.command_pool(), 1, &slot.commands);
+    slot.fence = VK_NULL_HANDLE;
+    slot.commands = VK_NULL_HANDLE;
+    slot.buffer.reset();
+  }
+}
+
+void StagingRing::wait(Slot& slot) {
+  if (!slot.pending) return;
+  for (;;) {
+    const VkResult result =
+        vkWaitForFences(context_.device(), 1, &slot.fence, VK_TRUE, 10'000'000'000ull);
+    if (result == VK_TIMEOUT) continue;
+    check(result, "vkWaitForFences");
+    break;
+  }
+  slot.pending = false;
+}
+
+void StagingRing::wait_idle() {
+  for (Slot& slot : slots_) wait(slot);
+}
+
+void StagingRing::begin(Slot& slot) {
+  wait(slot);
+  check(vkResetFences(context_.device(), 1, &slot.fence), "vkResetFences");
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(slot.commands, &begin), "vkBeginCommandBuffer");
+}
+
+void StagingRing::submit(Slot& slot) {
+  check(vkEndCommandBuffer(slot.commands), "vkEndCommandBuffer");
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &slot.commands;
+  check(vkQueueSubmit(context_.queue(), 1, &submit, slot.fence), "vkQueueSubmit");
+  slot.pending = true;
+}
+
+void StagingRing::upload(std::span<const Upload> pieces) {
+  for (const auto& chunk : plan_chunks(pieces, chunk_)) {
+    Slot& slot = slots_[next_];
+    next_ = (next_ + 1) % slots_.size();
+    begin(slot);  // waits for the copy that last read this slot
+    char* ring = static_cast<char*>(slot.buffer->mapped());
+    for (const Part& part : chunk) {
+      const Upload& piece = pieces[part.piece];
+      copy_on_threads(ring + part.ring_at, static_cast<const char*>(piece.from) + part.at,
+                      part.bytes);
+      const VkBufferCopy region{part.ring_at, piece.offset + part.at, part.bytes};
+      vkCmdCopyBuffer(slot.commands, slot.buffer->handle(), piece.to, 1, &region);
+    }
+    // Visible to everything submitted later to the queue (an interop application's index
+    // reads too).
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(slot.commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
+    submit(slot);
+  }
+}
+
+void StagingRing::download(std::span<const Download> pieces) {
+  const auto chunks = plan_chunks(pieces, chunk_);
+  const std::size_t base = next_, count = slots_.size();
+  auto slot_of = [&](std::size_t c) -> Slot& { return slots_[(base + c) % count]; };
+  std::size_t issued = 0;
+  for (std::size_t c = 0; c < chunks.size(); ++c) {
+    // Up to `count` chunks in flight: the slot of chunk c + count - 1 was drained (chunk c - 1).
+    for (; issued < chunks.size() && issued < c + count; ++issued) {
+      Slot& slot = slot_of(issued);
+      begin(slot);
+      // Every write submitted earlier to the queue (an interop application's too), before
+      // our reads.
+      VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      before.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+      before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+      vkCmdPipelineBarrier(slot.commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                           VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
+      for (const Part& part : chunks[issued]) {
+        const Download& piece = pieces[part.piece];
+        const VkBufferCopy region{piece.offset + part.at, part.ring_at, part.bytes};
+        vkCmdCopyBuffer(slot.commands, piece.from, slot.buffer->handle(), 1, &region);
+      }
+      VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+      after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+      vkCmdPipelineBarrier(slot.commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
+      submit(slot);
+    }
+    Slot& slot = slot_of(c);
+    wait(slot);
+    const char* ring = static_cast<const char*>(slot.buffer->mapped());
+    for (const Part& part : chunks[c]) {
+      const Download& piece = pieces[part.piece];
+      copy_on_threads(static_cast<char*>(piece.to) + part.at, ring + part.ring_at, part.bytes);
+    }
+  }
+  next_ = (base + chunks.size()) % count;
+}
+
 // ---- Buffer -----------------------------------------------------------------------------------
+
+std::atomic<std::uint64_t> Buffer::made_{0};
 
 Buffer::Buffer(Context& context, VkDeviceSize bytes, bool host_visible)
     : context_(context), size_(std::max<VkDeviceSize>(bytes, 16)) {
@@ -448,6 +682,7 @@ Buffer::Buffer(Context& context, VkDeviceSize bytes, bool host_visible)
     vkDestroyBuffer(context.device(), buffer_, nullptr);
     check(result, host_visible ? "vkMapMemory" : "vkBindBufferMemory");
   }
+  made_.fetch_add(1);
 }
 
 Buffer::~Buffer() {
@@ -672,6 +907,15 @@ void Recording::barrier() {
   const VkPipelineStageFlags stages =
       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
   vkCmdPipelineBarrier(commands_, stages, stages, 0, 1, &memory, 0, nullptr, 0, nullptr);
+}
+
+void Recording::barrier_to_host() {
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  memory.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(commands_,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &memory, 0, nullptr, 0, nullptr);
 }
 
 void Recording::timestamp(std::string name) {

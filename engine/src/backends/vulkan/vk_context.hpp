@@ -89,6 +89,8 @@ class Buffer {
   VkDeviceSize size() const { return size_; }
   /// Host pointer for staging buffers (persistently mapped), nullptr otherwise.
   void* mapped() const { return mapped_; }
+  /// Buffers made so far in this process (tests check that repeated calls make none).
+  static std::uint64_t made() { return made_.load(); }
 
  private:
   Context& context_;
@@ -96,6 +98,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  static std::atomic<std::uint64_t> made_;
 };
 
 /// A typed view of a Buffer, read in shaders with texelFetch (a uniform texel buffer): on
@@ -148,6 +151,82 @@ class Kernel {
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
 
+/// Buffers a context keeps between calls, by slot (the per-site layout's, see vulkan_backend.cpp),
+/// so that repeated triangulations allocate nothing: expanse::triangulate makes a Backend per call
+/// on the process-wide context, and allocating its buffers anew each time cost 365 ms at 4096^2
+/// on the H100. Used under Context::mutex() only. Bounded: after each call the backend calls
+/// trim(), which releases them all when they total more than Context::keep_bytes().
+class BufferCache {
+ public:
+  explicit BufferCache(Context& context) : context_(context) {}
+  BufferCache(const BufferCache&) = delete;
+  BufferCache& operator=(const BufferCache&) = delete;
+  /// The buffer in `slot`, made anew only when it is missing, smaller than `bytes` or of the
+  /// other kind (a too-small one is released first: both need not fit at once).
+  Buffer& get(std::size_t slot, VkDeviceSize bytes, bool host_visible);
+  /// Releases every buffer when together they hold more than `limit` bytes.
+  void trim(VkDeviceSize limit);
+  void clear();
+  VkDeviceSize bytes() const;
+
+ private:
+  Context& context_;
+  std::vector<std::unique_ptr<Buffer>> slots_;
+};
+
+/// A fixed ring of host-visible staging buffers (slots x chunk bytes, 2 x 32 MiB by default)
+/// through which uploads and downloads of any size pass, one chunk per submission: the host's
+/// copy of one chunk (on all host threads) overlaps the transfer of the next, and host-visible
+/// memory stays bounded whatever the input size. Full-size staging (1.1 GB at 4096^2) cost
+/// most of the 365 ms per call that NVIDIA's driver takes to allocate and pin it. Used under
+/// Context::mutex() only; made once per context.
+class StagingRing {
+ public:
+  /// Host memory -> a device buffer.
+  struct Upload {
+    const void* from;
+    VkBuffer to;
+    VkDeviceSize offset, bytes;
+  };
+  /// A device buffer -> host memory.
+  struct Download {
+    VkBuffer from;
+    VkDeviceSize offset;
+    void* to;
+    VkDeviceSize bytes;
+  };
+  StagingRing(Context& context, VkDeviceSize chunk_bytes, std::uint32_t slots);
+  ~StagingRing();
+  StagingRing(const StagingRing&) = delete;
+  StagingRing& operator=(const StagingRing&) = delete;
+  /// Submits the copies, chunk by chunk, and returns once the host sources may be reused (the
+  /// last chunks may still be in flight: wait_idle() waits for them). Each chunk ends with a
+  /// barrier that makes its writes visible to everything submitted later to the queue.
+  void upload(std::span<const Upload> pieces);
+  /// Copies into host memory and returns when all of it is there. Each chunk's commands start
+  /// with a barrier against every write submitted earlier to the queue.
+  void download(std::span<const Download> pieces);
+  /// Waits for every chunk in flight.
+  void wait_idle();
+  VkDeviceSize bytes() const { return chunk_ * VkDeviceSize(slots_.size()); }
+
+ private:
+  struct Slot {
+    std::unique_ptr<Buffer> buffer;
+    VkCommandBuffer commands = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    bool pending = false;
+  };
+  void wait(Slot& slot);
+  void begin(Slot& slot);
+  void submit(Slot& slot);
+  void release();
+  Context& context_;
+  VkDeviceSize chunk_;
+  std::vector<Slot> slots_;
+  std::size_t next_ = 0;
+};
+
 /// One command buffer being recorded; submit() waits for completion and returns the device
 /// times between consecutive timestamp() marks.
 class Recording {
@@ -163,6 +242,8 @@ class Recording {
   void dispatch(const Kernel& kernel, const void* push_constants, std::uint32_t groups);
   /// Makes all earlier transfer/compute writes visible to all later transfer/compute access.
   void barrier();
+  /// Makes all earlier transfer/compute writes visible to the host (after the fence).
+  void barrier_to_host();
   /// The command buffer being recorded, for commands the methods above do not cover.
   VkCommandBuffer commands() const { return commands_; }
   /// Marks a stage boundary; the stage ending here is called `name`.
@@ -214,8 +295,18 @@ class Context {
   void require_fits(VkDeviceSize bytes, const char* what) const;
   std::uint32_t memory_type(std::uint32_t allowed, VkMemoryPropertyFlags wanted,
                             VkMemoryPropertyFlags fallback) const;
-  /// Serialises use of the queue and the kernels' descriptor sets.
+  /// Serialises use of the queue, the command pool, the kernels' descriptor sets, the buffer
+  /// cache and the staging ring.
   std::mutex& mutex() { return mutex_; }
+  /// Buffers kept between calls (under mutex()).
+  BufferCache& buffers() { return *cache_; }
+  /// The staging ring (under mutex()), made on first use.
+  StagingRing& staging();
+  /// Waits for the staging ring's chunks in flight, if it has any (before freeing a buffer).
+  void wait_staging();
+  /// Most bytes the buffer cache keeps between calls: $EXPANSE_VULKAN_KEEP_MB if set (0: keep
+  /// nothing), else a quarter of the largest device-local heap.
+  VkDeviceSize keep_bytes() const;
 
   /// Compiled once per context, by name.
   Kernel& kernel(const std::string& name, std::span<const std::uint32_t> spirv,
@@ -237,6 +328,9 @@ class Context {
   VkPhysicalDeviceMemoryProperties memory_{};
   std::mutex mutex_;
   std::vector<std::pair<std::string, std::unique_ptr<Kernel>>> kernels_;
+  // Destroyed (in release()) before the device they belong to.
+  std::unique_ptr<StagingRing> staging_;
+  std::unique_ptr<BufferCache> cache_;
 };
 
 }  // namespace expanse::detail::vk

@@ -186,12 +186,6 @@ static_assert(sizeof(LinkParams) == 16);
 constexpr std::uint32_t star_capacity = 16;
 static_assert(star_capacity <= 16, "star_common.glsl packs star positions and owned masks in 4 and 16 bits");
 
-template <class T>
-void put(Buffer& staging, VkDeviceSize& offset, const std::vector<T>& data) {
-  std::memcpy(static_cast<char*>(staging.mapped()) + offset, data.data(), data.size() * sizeof(T));
-  offset += data.size() * sizeof(T);
-}
-
 VkDeviceSize bytes_of(std::size_t count, std::size_t size) { return VkDeviceSize(count) * size; }
 
 // memcpy in one sequential stream per host thread: the access pattern write-combined (uncached)
@@ -455,15 +449,18 @@ class VulkanBackend final : public Backend {
     return g;
   }
 
-  // A buffer the backend keeps between calls, made anew only when it is too small or of the
-  // other kind: allocating (for host-visible memory also pinning and zeroing) the per-site
-  // layout's buffers cost 325 ms of 2,435 at 4096^2 on the H100, on every call.
-  Buffer& kept(std::unique_ptr<Buffer>& slot, VkDeviceSize bytes, bool host_visible) {
-    if (!slot || slot->size() < bytes || (slot->mapped() != nullptr) != host_visible) {
-      slot.reset();  // the old one goes first: both need not fit at once
-      slot = std::make_unique<Buffer>(*context_, bytes, host_visible);
-    }
-    return *slot;
+  // The per-site layout's buffers, kept between calls by the context (BufferCache): every
+  // Backend on it shares them, so the free function expanse::triangulate, which makes a
+  // Backend per call, allocates nothing after its first call either (allocating them cost
+  // 325-365 ms at 4096^2 on the H100, on every call). Host-visible only where a CPU device
+  // works in place; GPUs stage through the context's fixed StagingRing.
+  enum Kept : std::size_t {
+    k_input_sites, k_input_predecessor, k_cell_key, k_cursor, k_unordered, k_to_sorted,
+    k_scan_sums, k_sites, k_cell_start, k_predecessor, k_to_site, k_triangles, k_counters,
+    k_stars, k_site_info, k_neighbors, k_unresolved, k_open_slots, k_words
+  };
+  Buffer& kept(Kept slot, VkDeviceSize bytes, bool host_visible) {
+    return context_->buffers().get(slot, bytes, host_visible);
   }
 
   // Where the star grid's sites are sorted into cells. On a GPU, on the device (bucket.comp):
@@ -480,31 +477,28 @@ class VulkanBackend final : public Backend {
   }
 
   // The host's counting sort (bucket_stars), straight into the star kernel's buffers when they
-  // are host-visible (in place), else into a staging buffer whose copies `rec` records (the
-  // staging buffer is returned: it must live until `rec` is submitted). Used on CPU devices,
-  // and where a cell is too crowded for the device's ranking (bucket.comp, MAX_CELL).
-  std::unique_ptr<Buffer> bucket_on_host(const GrowInput& input, int cells, Recording& rec,
-                                         Buffer& sites, Buffer& cell_start, Buffer& predecessor,
-                                         StarGrid& grid) {
+  // are host-visible (in place), else into host memory that the staging ring uploads (the
+  // star kernel's recording starts with a barrier, which orders it after those copies). Used
+  // on CPU devices, and where a cell is too crowded for the device's ranking (bucket.comp,
+  // MAX_CELL).
+  void bucket_on_host(const GrowInput& input, int cells, Buffer& sites, Buffer& cell_start,
+                      Buffer& predecessor, StarGrid& grid) {
     const std::size_t n = std::size_t(input.sites.size());
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
     if (sites.mapped() && cell_start.mapped() && predecessor.mapped()) {
       grid = bucket_stars(input, cells, static_cast<Point2*>(sites.mapped()),
                           static_cast<std::int32_t*>(cell_start.mapped()),
                           static_cast<std::int32_t*>(predecessor.mapped()));
-      return nullptr;
+      return;
     }
-    const VkDeviceSize o_cells = bytes_of(n, 16), o_pred = o_cells + bytes_of(cell_entries, 4);
-    auto staging = std::make_unique<Buffer>(*context_, o_pred + bytes_of(n, 4), true);
-    char* at = static_cast<char*>(staging->mapped());
-    grid = bucket_stars(input, cells, reinterpret_cast<Point2*>(at),
-                        reinterpret_cast<std::int32_t*>(at + o_cells),
-                        reinterpret_cast<std::int32_t*>(at + o_pred));
-    rec.copy(*staging, sites, bytes_of(n, 16), 0);
-    rec.copy(*staging, cell_start, bytes_of(cell_entries, 4), o_cells);
-    rec.copy(*staging, predecessor, bytes_of(n, 4), o_pred);
-    rec.barrier();
-    return staging;
+    std::vector<Point2> points(n);
+    std::vector<std::int32_t> starts(cell_entries), predecessors(n);
+    grid = bucket_stars(input, cells, points.data(), starts.data(), predecessors.data());
+    const StagingRing::Upload pieces[] = {
+        {points.data(), sites.handle(), 0, bytes_of(n, 16)},
+        {starts.data(), cell_start.handle(), 0, bytes_of(cell_entries, 4)},
+        {predecessors.data(), predecessor.handle(), 0, bytes_of(n, 4)}};
+    context_->staging().upload(pieces);
   }
 
   // Device triangles (sorted ids) -> partial.triangles (SiteSet ids, room already made),
@@ -572,78 +566,83 @@ class VulkanBackend final : public Backend {
     if (device_bucketing) bucketing.emplace(ctx, wg);
     start = Clock::now();
     // The star kernel's inputs: host-visible where the host buckets in place.
-    Buffer& sites = kept(kept_.sites, bytes_of(n, 16), in_place);
-    Buffer& cell_start = kept(kept_.cell_start, bytes_of(cell_entries, 4), in_place);
-    Buffer& predecessor = kept(kept_.predecessor, bytes_of(n, 4), in_place);
+    Buffer& sites = kept(k_sites, bytes_of(n, 16), in_place);
+    Buffer& cell_start = kept(k_cell_start, bytes_of(cell_entries, 4), in_place);
+    Buffer& predecessor = kept(k_predecessor, bytes_of(n, 4), in_place);
     // Read by the host: in place on a CPU device, else downloaded.
-    Buffer& triangles = kept(kept_.triangles, bytes_of(capacity, 12), in_place);
-    Buffer& counters = kept(kept_.counters, 64, in_place);
-    Buffer& stars = kept(kept_.stars, bytes_of(n, 4 * star_capacity), in_place);
-    Buffer& site_info = kept(kept_.site_info, bytes_of(n, 8), in_place);
-    Buffer *neighbors = nullptr, *unresolved = nullptr, *upload = nullptr, *download = nullptr;
+    Buffer& triangles = kept(k_triangles, bytes_of(capacity, 12), in_place);
+    Buffer& counters = kept(k_counters, 64, in_place);
+    Buffer& stars = kept(k_stars, bytes_of(n, 4 * star_capacity), in_place);
+    Buffer& site_info = kept(k_site_info, bytes_of(n, 8), in_place);
+    Buffer *neighbors = nullptr, *unresolved = nullptr, *words = nullptr;
     // Device bucketing: the inputs in SiteSet order, written by the host (in place on a CPU
     // device, else staged), and buffers the device alone makes and reads.
     Buffer *input_sites = nullptr, *input_predecessor = nullptr, *to_site = nullptr;
     if (device_bucketing) {
-      input_sites = &kept(kept_.input_sites, bytes_of(n, 16), in_place);
-      input_predecessor = &kept(kept_.input_predecessor, bytes_of(n, 4), in_place);
-      to_site = &kept(kept_.to_site, bytes_of(n, 4), false);
-      bucketing->bind({input_sites, input_predecessor, &kept(kept_.cell_key, bytes_of(n, 4), false),
-                      &cell_start, &kept(kept_.cursor, bytes_of(cell_entries - 1, 4), false),
-                      &kept(kept_.unordered, bytes_of(n, 4), false), &sites, to_site,
-                      &kept(kept_.to_sorted, bytes_of(n, 4), false), &predecessor, &triangles,
+      input_sites = &kept(k_input_sites, bytes_of(n, 16), in_place);
+      input_predecessor = &kept(k_input_predecessor, bytes_of(n, 4), in_place);
+      to_site = &kept(k_to_site, bytes_of(n, 4), false);
+      bucketing->bind({input_sites, input_predecessor, &kept(k_cell_key, bytes_of(n, 4), false),
+                      &cell_start, &kept(k_cursor, bytes_of(cell_entries - 1, 4), false),
+                      &kept(k_unordered, bytes_of(n, 4), false), &sites, to_site,
+                      &kept(k_to_sorted, bytes_of(n, 4), false), &predecessor, &triangles,
                       &counters,
-                      &kept(kept_.scan_sums, bucketing->scan_sums_bytes(cell_entries), false)});
+                      &kept(k_scan_sums, bucketing->scan_sums_bytes(cell_entries), false)});
     }
-    // Download layout: triangles, neighbours, counters, unresolved slots, open slots.
-    const VkDeviceSize o_neighbors = bytes_of(capacity, 12), o_counters = 2 * o_neighbors,
-                       o_unresolved = o_counters + 64,
-                       o_open = o_unresolved + bytes_of(unresolved_capacity, 4);
     // The device audits the adjacency where it has the triangles in SiteSet ids and the hull
     // (device bucketing), and made the adjacency (GPU path): open slots, as many as unresolved.
     const bool device_audit = device_bucketing && !in_place;
     Buffer* open_slots = nullptr;
     if (!in_place) {
-      neighbors = &kept(kept_.neighbors, bytes_of(capacity, 12), false);
-      unresolved = &kept(kept_.unresolved, bytes_of(unresolved_capacity, 4), false);
-      if (device_audit) open_slots = &kept(kept_.open_slots, bytes_of(unresolved_capacity, 4), false);
-      if (device_bucketing) upload = &kept(kept_.upload, bytes_of(n, 20), true);
-      download = &kept(kept_.download, o_open + bytes_of(unresolved_capacity, 4), true);
+      neighbors = &kept(k_neighbors, bytes_of(capacity, 12), false);
+      unresolved = &kept(k_unresolved, bytes_of(unresolved_capacity, 4), false);
+      if (device_audit) open_slots = &kept(k_open_slots, bytes_of(unresolved_capacity, 4), false);
+      // The counters come back here at the end of each submission (the rest by the ring).
+      words = &kept(k_words, 64, true);
     }
     result.host_stages.push_back({"vulkan: allocate", ms_since(start)});
+    // Whatever happens below, the cache keeps at most keep_bytes() once this call is over.
+    struct Trim {
+      Context& ctx;
+      ~Trim() {
+        try {
+          ctx.buffers().trim(ctx.keep_bytes());
+        } catch (...) {  // a failed wait: the buffers stay, the call's own error goes on
+        }
+      }
+    } trim{ctx};
 
     // First submission: the sites into cells. Its one question for the host (was a cell too
     // crowded to rank on the device?) is asked before the star kernel runs.
     bool device_sorted = false;
     if (device_bucketing) {
       start = Clock::now();
-      char* staging = in_place ? nullptr : static_cast<char*>(upload->mapped());
-      copy_on_host_threads(in_place ? input_sites->mapped() : staging, input.sites.points.data(),
-                           bytes_of(n, 16));
-      copy_on_host_threads(in_place ? input_predecessor->mapped() : staging + bytes_of(n, 16),
-                           input.hull.predecessor.data(), bytes_of(n, 4));
+      if (in_place) {
+        copy_on_host_threads(input_sites->mapped(), input.sites.points.data(), bytes_of(n, 16));
+        copy_on_host_threads(input_predecessor->mapped(), input.hull.predecessor.data(),
+                             bytes_of(n, 4));
+      } else {
+        // Chunk by chunk through the ring: the host's copy of one chunk overlaps the transfer
+        // of the previous one.
+        const StagingRing::Upload pieces[] = {
+            {input.sites.points.data(), input_sites->handle(), 0, bytes_of(n, 16)},
+            {input.hull.predecessor.data(), input_predecessor->handle(), 0, bytes_of(n, 4)}};
+        ctx.staging().upload(pieces);
+      }
       result.host_stages.push_back({"vulkan: stage", ms_since(start)});
 
       start = Clock::now();
       Recording rec(ctx);
-      if (!in_place) {
-        rec.copy(*upload, *input_sites, bytes_of(n, 16), 0);
-        rec.copy(*upload, *input_predecessor, bytes_of(n, 4), bytes_of(n, 16));
-        rec.barrier();
-        rec.timestamp("vulkan: upload");
-      }
+      rec.barrier();  // after the ring's copies
       GridShape shape{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]}, cells};
       bucketing->record_sort(rec, shape, n);
       rec.timestamp("vulkan: bucket");
-      if (!in_place) {
-        rec.copy(counters, *download, counters.size(), 0, o_counters);
-        rec.barrier();
-      }
+      if (!in_place) rec.copy(counters, *words, counters.size());
+      rec.barrier_to_host();  // the counters (in place: all the host reads)
       for (StageTime& stage : rec.submit()) result.device_stages.push_back(std::move(stage));
       result.host_stages.push_back({"vulkan: bucket (submit + wait)", ms_since(start)});
-      const auto* words = static_cast<const std::uint32_t*>(
-          in_place ? counters.mapped() : static_cast<char*>(download->mapped()) + o_counters);
-      device_sorted = words[crowded_cell_counter] == 0;
+      const auto* at = static_cast<const std::uint32_t*>(in_place ? counters.mapped() : words->mapped());
+      device_sorted = at[crowded_cell_counter] == 0;
     }
 
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
@@ -666,15 +665,14 @@ class VulkanBackend final : public Backend {
     }
 
     start = Clock::now();
-    Recording rec(ctx);
     StarGrid host_grid;  // when the host bucketed: its sorted id -> SiteSet id
-    std::unique_ptr<Buffer> host_bucketed;
     if (!device_sorted) {
-      host_bucketed = bucket_on_host(input, cells, rec, sites, cell_start, predecessor, host_grid);
-      if (host_bucketed) rec.timestamp("vulkan: upload");
+      bucket_on_host(input, cells, sites, cell_start, predecessor, host_grid);
       result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
       start = Clock::now();
     }
+    Recording rec(ctx);
+    rec.barrier();  // after the ring's copies, if the host bucketed
     rec.fill(counters, 0);
     rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
@@ -711,27 +709,25 @@ class VulkanBackend final : public Backend {
                    capacity, unresolved_capacity);
       rec.timestamp("vulkan: audit");
     }
-    if (!in_place) {
-      rec.copy(triangles, *download, bytes_of(capacity, 12), 0, 0);
-      rec.copy(*neighbors, *download, bytes_of(capacity, 12), 0, o_neighbors);
-      rec.copy(counters, *download, counters.size(), 0, o_counters);
-      rec.copy(*unresolved, *download, bytes_of(unresolved_capacity, 4), 0, o_unresolved);
-      if (open_slots) rec.copy(*open_slots, *download, bytes_of(unresolved_capacity, 4), 0, o_open);
-      rec.barrier();
-      rec.timestamp("vulkan: download");
-    }
+    // Only the counters here: the host reads them, then downloads what was made (not the
+    // capacity) through the ring. In place, the host reads the buffers themselves.
+    if (!in_place) rec.copy(counters, *words, counters.size());
+    rec.barrier_to_host();
     // While the device works, the host readies the output vectors (faulting in 805 MB at
-    // 4096^2 took the H100's host ~460 ms in the CUDA backend, done after the kernel).
+    // 4096^2 took the H100's host ~220 ms in the CUDA backend, overlapped with its kernel).
     auto& partial = result.partial;
     std::vector<StageTime> device_stages;
     std::exception_ptr device_failure;
+    Clock::time_point device_done;
     std::thread waiter([&] {
       try {
         device_stages = rec.submit();
       } catch (...) {
         device_failure = std::current_exception();
       }
+      device_done = Clock::now();
     });
+    const auto host_start = Clock::now();
     try {
       // Room for the whole triangulation in both vectors (the seam stage appends in place),
       // sized to it, so the read-back is one parallel copy.
@@ -740,25 +736,58 @@ class VulkanBackend final : public Backend {
       waiter.join();
       throw;
     }
+    const auto host_done = Clock::now();
     waiter.join();
     if (device_failure) std::rethrow_exception(device_failure);
     for (StageTime& stage : device_stages) result.device_stages.push_back(std::move(stage));
     result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
+    // What the wait above was made of: the device's work (submission to fence, host clock)
+    // and the output vectors' allocation beside it; the longer of the two is the wait.
+    result.host_stages.push_back(
+        {"vulkan: device work (host clock)", std::chrono::duration<double, std::milli>(device_done - host_start).count()});
+    result.host_stages.push_back(
+        {"vulkan: output allocation (host, while the device works)",
+         std::chrono::duration<double, std::milli>(host_done - host_start).count()});
 
     start = Clock::now();
     std::uint32_t count[16];
-    const char* out = static_cast<const char*>(in_place ? nullptr : download->mapped());
-    std::memcpy(count, in_place ? counters.mapped() : out + o_counters, sizeof(count));
+    std::memcpy(count, in_place ? counters.mapped() : words->mapped(), sizeof(count));
     if (count[2] != 0 || count[0] > capacity || count[0] > partial.triangles.size())
       throw Error(ErrorCode::internal, "Vulkan: star output overflowed its capacity");
     if (count[invalid_site_id_counter] != 0)
       throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
     static_assert(sizeof(partial.triangles[0]) == 12 && sizeof(partial.neighbors[0]) == 12);
-    if (device_sorted)
-      copy_on_host_threads(partial.triangles.data(), in_place ? triangles.mapped() : out,
-                           bytes_of(count[0], 12));
-    else
-      restore_on_host(host_grid, static_cast<const std::int32_t*>(in_place ? triangles.mapped() : out),
+    // The GPU path's adjacency: count[5], the links pass hit lavapipe's loop cap; count[6], too
+    // many unresolved slots. Either way it is left empty (its room kept), and the pipeline
+    // derives it.
+    const bool device_links = !in_place && count[5] == 0 && count[6] == 0;
+    std::vector<std::int32_t> unresolved_slots, open_list;
+    const bool check_open = device_links && device_sorted && device_audit &&
+                            count[open_overflow_counter] == 0;
+    if (!in_place) {
+      // Everything the host reads, in one pass through the ring: the triangles (straight into
+      // the output vector), the adjacency, and the short lists.
+      std::vector<StagingRing::Download> pieces{
+          {triangles.handle(), 0, partial.triangles.data(), bytes_of(count[0], 12)}};
+      if (device_links) {
+        unresolved_slots.resize(std::min<std::size_t>(count[4], unresolved_capacity));
+        pieces.push_back({neighbors->handle(), 0, partial.neighbors.data(), bytes_of(count[0], 12)});
+        pieces.push_back({unresolved->handle(), 0, unresolved_slots.data(), bytes_of(unresolved_slots.size(), 4)});
+      }
+      if (check_open) {
+        open_list.resize(std::min<std::size_t>(count[open_edge_counter], unresolved_capacity));
+        pieces.push_back({open_slots->handle(), 0, open_list.data(), bytes_of(open_list.size(), 4)});
+      }
+      ctx.staging().download(pieces);
+    }
+    if (in_place && device_sorted)
+      copy_on_host_threads(partial.triangles.data(), triangles.mapped(), bytes_of(count[0], 12));
+    else if (!device_sorted)
+      // The triangles in sorted ids (downloaded into the output, or in place) to SiteSet ids;
+      // each id is read before its slot is written, so the two may be the same memory.
+      restore_on_host(host_grid,
+                      static_cast<const std::int32_t*>(in_place ? triangles.mapped()
+                                                                : static_cast<void*>(partial.triangles.data())),
                       count[0], partial);
     partial.triangles.resize(count[0]);
     partial.deferred_expansions = count[1];
@@ -770,28 +799,23 @@ class VulkanBackend final : public Backend {
       link_stars(static_cast<const std::int32_t*>(stars.mapped()),
                  static_cast<const std::int32_t*>(site_info.mapped()), n, partial);
       result.host_stages.push_back({"vulkan: links (host)", ms_since(start)});
-    } else if (count[5] == 0 && count[6] == 0) {
+    } else if (device_links) {
       partial.neighbors.resize(count[0]);
-      copy_on_host_threads(partial.neighbors.data(), out + o_neighbors, bytes_of(count[0], 12));
-      const auto* slots = reinterpret_cast<const std::int32_t*>(out + o_unresolved);
-      const std::vector<std::int32_t> unresolved_slots(slots, slots + count[4]);
+      if (unresolved_slots.size() < count[4])
+        throw Error(ErrorCode::internal, "Vulkan: more unresolved slots than their capacity");
       pair_unresolved(unresolved_slots, partial);
       result.host_stages.push_back({"vulkan: links (read back)", ms_since(start)});
-      if (device_sorted && device_audit && count[open_overflow_counter] == 0) {
+      if (check_open) {
         // A failed device audit is final: the pipeline derives the adjacency itself (the host
         // audit would find the same, after reading all of it).
         start = Clock::now();
-        const auto* open = reinterpret_cast<const std::int32_t*>(out + o_open);
         result.adjacency_audited =
-            count[bad_link_counter] == 0 &&
-            open_edges_check_out(std::vector<std::int32_t>(open, open + count[open_edge_counter]),
-                                 unresolved_slots, partial);
+            count[bad_link_counter] == 0 && open_list.size() == count[open_edge_counter] &&
+            open_edges_check_out(open_list, unresolved_slots, partial);
         if (!result.adjacency_audited) partial.neighbors.clear();
         result.host_stages.push_back({"vulkan: audit (open edges)", ms_since(start)});
       }
     } else {
-      // count[5]: the links pass hit lavapipe's loop cap; count[6]: too many unresolved slots.
-      // Either way the adjacency is left empty (its room kept), and the pipeline derives it.
       partial.neighbors.clear();
     }
   }
@@ -1040,24 +1064,27 @@ class VulkanBackend final : public Backend {
     Buffer active(ctx, bytes_of(active_total, 4), false);
     Buffer triangles(ctx, bytes_of(capacity, 12), false);
     Buffer counters(ctx, 64, false);
-    Buffer upload(ctx,
-                  sites.size() + ids.size() + cell_start.size() + predecessor.size() +
-                      owners.size() + block_info.size(),
-                  true);
-    Buffer download(ctx, triangles.size() + counters.size(), true);
-    VkDeviceSize offset = 0;
-    const VkDeviceSize o_sites = offset;
-    put(upload, offset, s.points);
-    const VkDeviceSize o_ids = offset;
-    put(upload, offset, local_ids);
-    const VkDeviceSize o_cells = offset;
-    put(upload, offset, local_cells);
-    const VkDeviceSize o_pred = offset;
-    put(upload, offset, s.predecessor);
-    const VkDeviceSize o_owner = offset;
-    put(upload, offset, owner);
-    const VkDeviceSize o_info = offset;
-    put(upload, offset, info);
+    Buffer words(ctx, 64, true);
+    // Through the context's staging ring, chunk by chunk (the kernel's recording starts with a
+    // barrier after these copies).
+    const StagingRing::Upload pieces[] = {
+        {s.points.data(), sites.handle(), 0, bytes_of(n, 16)},
+        {local_ids.data(), ids.handle(), 0, bytes_of(local_ids.size(), 4)},
+        {local_cells.data(), cell_start.handle(), 0, bytes_of(local_cells.size(), 4)},
+        {s.predecessor.data(), predecessor.handle(), 0, bytes_of(n, 4)},
+        {owner.data(), owners.handle(), 0, bytes_of(n, 4)},
+        {info.data(), block_info.handle(), 0, bytes_of(info.size(), 4)}};
+    ctx.staging().upload(pieces);
+    // The buffers above outlive no copy in flight, even when this call throws.
+    struct Idle {
+      Context& ctx;
+      ~Idle() {
+        try {
+          ctx.wait_staging();
+        } catch (...) {
+        }
+      }
+    } idle{ctx};
     result.host_stages.push_back({"vulkan: allocate + stage", ms_since(start)});
 
     std::uint32_t threads = std::uint32_t(layout.threads_per_block);
@@ -1072,12 +1099,7 @@ class VulkanBackend final : public Backend {
 
     start = Clock::now();
     Recording rec(ctx);
-    rec.copy(upload, sites, bytes_of(n, 16), o_sites);
-    rec.copy(upload, ids, bytes_of(local_ids.size(), 4), o_ids);
-    rec.copy(upload, cell_start, bytes_of(local_cells.size(), 4), o_cells);
-    rec.copy(upload, predecessor, bytes_of(n, 4), o_pred);
-    rec.copy(upload, owners, bytes_of(n, 4), o_owner);
-    rec.copy(upload, block_info, bytes_of(info.size(), 4), o_info);
+    rec.barrier();  // after the ring's copies
     rec.fill(edge_set, 0xffffffffu);
     rec.fill(counters, 0);
     rec.barrier();
@@ -1091,20 +1113,19 @@ class VulkanBackend final : public Backend {
     }
     rec.barrier();
     rec.timestamp("vulkan: blocks");
-    rec.copy(triangles, download, triangles.size(), 0, 0);
-    rec.copy(counters, download, counters.size(), 0, triangles.size());
-    rec.barrier();
-    rec.timestamp("vulkan: download");
+    rec.copy(counters, words, counters.size());
+    rec.barrier_to_host();
     result.device_stages = rec.submit();
     result.host_stages.push_back({"vulkan: submit + wait", ms_since(start)});
 
     start = Clock::now();
     std::uint32_t count[16];
-    std::memcpy(count, static_cast<char*>(download.mapped()) + triangles.size(), sizeof(count));
+    std::memcpy(count, words.mapped(), sizeof(count));
     if (count[2] != 0 || count[0] > capacity)
       throw Error(ErrorCode::internal, "Vulkan: block output overflowed its capacity");
     std::vector<std::int32_t> raw(std::size_t(count[0]) * 3);
-    std::memcpy(raw.data(), download.mapped(), raw.size() * 4);
+    const StagingRing::Download made[] = {{triangles.handle(), 0, raw.data(), bytes_of(raw.size(), 4)}};
+    ctx.staging().download(made);
     reserve_full_triangulation(result.partial, n, input.hull.sites.size());
     finish(s, raw, count[0], result);
     result.partial.deferred_expansions = count[1];
@@ -1113,13 +1134,6 @@ class VulkanBackend final : public Backend {
   }
 
   std::shared_ptr<Context> context_;
-  // The per-site layout's buffers, kept between calls (see kept()); destroyed before the
-  // context they belong to.
-  struct StarBuffers {
-    std::unique_ptr<Buffer> input_sites, input_predecessor, cell_key, cursor, unordered, to_sorted,
-        scan_sums, sites, cell_start, predecessor, to_site, triangles, counters, stars, site_info,
-        neighbors, unresolved, open_slots, upload, download;
-  } kept_;
 };
 
 }  // namespace
