@@ -5,6 +5,8 @@
 //
 // Sizes are sides: n = side^2 points. Times are medians after one warm-up run:
 //   host_to_host_ms  expanse::triangulate(): std::vector points -> Mesh (triangles + neighbours)
+//   host_to_host_reused_ms  the same into the previous repetition's Mesh (Triangulator::
+//                    triangulate(points, mesh)): its storage filled again, no fresh pages
 //   backend_ms       Backend::grow() alone: prepared sites -> triangles + neighbours in vectors
 //   gpu_ms           device stages without transfers (CUDA events)
 #include <algorithm>
@@ -85,7 +87,7 @@ int main(int argc, char** argv) {
       const double t1 = now_ms();
       Hull hull = convex_hull(sites);
       const double t2 = now_ms();
-      std::vector<double> backend_ms, gpu_ms, h2h_ms, seam_share;
+      std::vector<double> backend_ms, gpu_ms, h2h_ms, h2h_reused_ms, seam_share;
       std::map<std::string, std::vector<double>> stage_ms, host_stage_ms, pipeline_stage_ms;
       cuda::RunCounters counters;
       std::size_t deferred = 0, triangles = 0;
@@ -126,6 +128,13 @@ int main(int argc, char** argv) {
                                                               static_cast<double>(mesh.triangles.size()));
             for (const auto& s : mesh.stats.stages) pipeline_stage_ms[s.name].push_back(s.ms);
           }
+          Mesh kept;
+          for (int r = 0; r <= reps; ++r) {
+            const double p0 = now_ms();
+            triangulator.triangulate(points, kept);
+            const double p1 = now_ms();
+            if (r > 0) h2h_reused_ms.push_back(p1 - p0);
+          }
         }
       } catch (const Error& e) {
         error = std::string(to_string(e.code())) + ": " + e.what();
@@ -143,7 +152,9 @@ int main(int argc, char** argv) {
       }
       std::printf("\"prepare_sites_ms\":%.3f,\"hull_ms\":%.3f,\"backend_ms\":%.3f,\"gpu_ms\":%.3f,", t1 - t0, t2 - t1,
                   median(backend_ms), median(gpu_ms));
-      if (pipeline) std::printf("\"host_to_host_ms\":%.3f,\"seam_share\":%.6g,", median(h2h_ms), median(seam_share));
+      if (pipeline)
+        std::printf("\"host_to_host_ms\":%.3f,\"host_to_host_reused_ms\":%.3f,\"seam_share\":%.6g,", median(h2h_ms),
+                    median(h2h_reused_ms), median(seam_share));
       std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,",
                   triangles, deferred, static_cast<unsigned long long>(counters.predicates),
                   static_cast<unsigned long long>(counters.bytes_to_device),

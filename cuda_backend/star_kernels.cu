@@ -453,7 +453,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   // while the star kernel runs: done after it, this took ~460 ms at 4096^2 on the H100's host.
   const auto host_launched = clock::now();
   auto& partial = result.partial;
-  allocate_full_triangulation(partial, n, input.hull.sites.size());
+  allocate_full_triangulation(partial, n, input.hull.sites.size(), input.recycled);
   const auto host_allocated = clock::now();
 
   EXPANSE_CUDA(cudaStreamSynchronize(stream));

@@ -129,7 +129,8 @@ for path in sorted(glob.glob(os.path.join(sys.argv[1], "bench-cuda*.jsonl"))):
             print(f"  {r['distribution']:9} {r['side']:5}  error: {r['error']}")
             continue
         st = r.get("device_stages_ms", {})
-        print(f"  {r['distribution']:9} {r['side']:5} h2h {r.get('host_to_host_ms', 0):9.1f}  gpu {r['gpu_ms']:8.2f}"
+        print(f"  {r['distribution']:9} {r['side']:5} h2h {r.get('host_to_host_ms', 0):9.1f}"
+              f" reused {r.get('host_to_host_reused_ms', 0):9.1f}  gpu {r['gpu_ms']:8.2f}"
               f"  stars {st.get('stars', 0):8.2f}  backend {r['backend_ms']:8.1f}  seam {r.get('seam_share', 0):.2e}"
               f"  deferred {r['deferred']}  maxwork {r['max_cells_per_site']}")
 PY

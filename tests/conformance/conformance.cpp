@@ -29,13 +29,19 @@ namespace {
 // Everything one case verifies, as text: empty when the backend's mesh is right. Used both to
 // report a failure and, while shrinking, to decide whether a smaller input still fails.
 std::string first_difference(std::span<const Point2> points, const Options& opts) {
-  const auto oracle = test::cgal_delaunay(points);
   Mesh mesh;
   try {
     mesh = triangulate(points, opts);
   } catch (const std::exception& e) {
     return std::string("triangulate threw: ") + e.what();
   }
+  return differences_from_cgal(points, mesh, opts);
+}
+
+}  // namespace
+
+std::string differences_from_cgal(std::span<const Point2> points, const Mesh& mesh, const Options& opts) {
+  const auto oracle = test::cgal_delaunay(points);
   std::ostringstream out;
   const auto tri = test::compare_triangles(mesh.triangles, oracle.triangles);
   if (!tri.equal) out << tri.message << "\n";
@@ -62,6 +68,8 @@ std::string first_difference(std::span<const Point2> points, const Options& opts
   if (s.backend != to_string(opts.backend)) out << "stats.backend is '" << s.backend << "'\n";
   return out.str();
 }
+
+namespace {
 
 // Greedy delta debugging: drop chunks (halves, quarters, ... single points) while the input
 // still fails. Bounded in time: a report needs a small input, not a minimal one.

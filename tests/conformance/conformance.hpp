@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "expanse/mesh.hpp"
 #include "expanse/options.hpp"
 #include "expanse/types.hpp"
 
@@ -20,5 +21,9 @@ Options options(const Layout& layout = {});
 /// case in failure messages. When EXPANSE_SHRINK is set in the environment, a failing input is
 /// shrunk to a small one that still fails and written to conformance-failures/ (for reports).
 void expect_matches_cgal(std::string_view label, std::span<const Point2> points, const Options& opts);
+
+/// What in `mesh`, made from `points` with `opts`, differs from CGAL (triangles, hull,
+/// representatives, check_mesh, stats), as text; empty when nothing does.
+std::string differences_from_cgal(std::span<const Point2> points, const Mesh& mesh, const Options& opts);
 
 }  // namespace expanse::conformance

@@ -18,6 +18,10 @@ struct GrowInput {
   const SiteSet& sites;
   const Hull& hull;
   const Layout& layout;
+  /// Vectors whose storage the backend may fill instead of allocating its own (the caller's
+  /// previous mesh, Triangulator::triangulate(points, mesh)), or null: allocate_full_triangulation
+  /// takes it.
+  PartialTriangulation* recycled = nullptr;
 };
 
 struct GrowResult {

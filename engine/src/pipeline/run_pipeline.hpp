@@ -18,4 +18,8 @@ void require_exact_arithmetic();
 /// options.device are not looked at. Same contract and output as expanse::triangulate.
 Mesh run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points);
 
+/// The same into `mesh`, whose vectors' storage the backend may fill again (GrowInput::recycled);
+/// `mesh` is unchanged if the input is refused, and empty after any later error.
+void run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points, Mesh& mesh);
+
 }  // namespace expanse::detail

@@ -73,10 +73,19 @@ Mesh Triangulator::triangulate(std::span<const Point2> points) {
   return detail::run_pipeline(*impl_->backend, impl_->options, points);
 }
 
+void Triangulator::triangulate(std::span<const Point2> points, Mesh& mesh) {
+  detail::run_pipeline(*impl_->backend, impl_->options, points, mesh);
+}
+
 Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points) {
-  const auto start = Clock::now();
   Mesh mesh;
-  Stats& stats = mesh.stats;
+  run_pipeline(backend, options, points, mesh);
+  return mesh;
+}
+
+void detail::run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points, Mesh& mesh) {
+  const auto start = Clock::now();
+  Stats stats;
   stats.backend = std::string(to_string(backend.kind()));
   stats.device = backend.device_name();
   stats.input_points = points.size();
@@ -86,11 +95,21 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   stats.duplicates = stats.input_points - stats.sites;
   const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });
   stats.hull_sites = hull.sites.size();
+
+  // The input is accepted: from here on `mesh` is rewritten, the storage of its two large
+  // vectors handed to the backend to fill again. Emptied first: an error leaves no stale part.
+  detail::PartialTriangulation recycled;
+  recycled.triangles.swap(mesh.triangles);
+  recycled.neighbors.swap(mesh.neighbors);
+  recycled.triangles.clear();
+  recycled.neighbors.clear();
+  mesh.representative.clear();
+  mesh.stats = Stats{};
   mesh.hull = detail::to_input_indices(hull.sites, sites);
 
   if (sites.size() >= 3 && !hull.collinear) {
     detail::GrowResult grown = timed(stats, "grow", [&] {
-      return backend.grow({sites, hull, options.layout});
+      return backend.grow({sites, hull, options.layout, &recycled});
     });
     for (auto& stage : grown.host_stages) stats.stages.push_back(std::move(stage));
     stats.device_stages = std::move(grown.device_stages);
@@ -126,7 +145,7 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   stats.triangles = mesh.triangles.size();
   mesh.representative = std::move(sites.representative);  // the last use of sites
   stats.total_ms = ms_since(start);
-  return mesh;
+  mesh.stats = std::move(stats);
 }
 
 Mesh triangulate(std::span<const Point2> points, const Options& options) {

@@ -731,7 +731,7 @@ class VulkanBackend final : public Backend {
     try {
       // Room for the whole triangulation in both vectors (the seam stage appends in place),
       // sized to it, so the read-back is one parallel copy.
-      allocate_full_triangulation(partial, n, input.hull.sites.size());
+      allocate_full_triangulation(partial, n, input.hull.sites.size(), input.recycled);
     } catch (...) {
       waiter.join();
       throw;
