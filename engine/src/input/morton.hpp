@@ -52,6 +52,8 @@ class SplitPlan {
  public:
   SplitPlan(const std::vector<std::uint64_t>& sample, std::size_t target);
   std::size_t buckets() const { return buckets_; }
+  /// True when some code takes more than one table to look up.
+  bool deep() const { return table_.size() > (std::size_t{1} << first_bits); }
   std::uint32_t bucket(std::uint64_t code) const {
     std::uint32_t entry = table_[code >> first_shift];
     int shift = first_shift;

@@ -136,20 +136,41 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   }();
   const std::size_t buckets = plan.buckets();
   std::vector<std::uint32_t> next(chunks * buckets, 0);
+  // Where the plan is deep (a site of a dense cluster looks up several tables), each site's
+  // bucket is kept from the count for the distribution (kuzmin 4M: 131 -> 116 ms, 140 -> 137);
+  // else it is found again (uniform 4M: keeping it cost 76 -> 81 ms).
+  const bool keep = plan.deep() && buckets <= 65536;
+  HostVector<std::uint16_t> bucket_of;
+  if (keep) resize_for_parallel_write(bucket_of, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
-    for (std::size_t i = begin; i < end; ++i) ++mine[plan.bucket(code_of(scaled(input[i])))];
+    if (!keep) {
+      for (std::size_t i = begin; i < end; ++i) ++mine[plan.bucket(code_of(scaled(input[i])))];
+      return;
+    }
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t bucket = plan.bucket(code_of(scaled(input[i])));
+      bucket_of[i] = static_cast<std::uint16_t>(bucket);
+      ++mine[bucket];
+    }
   });
   const std::vector<std::size_t> bucket_start = distribution_slots(next, chunks, buckets);
   resize_for_parallel_write(sites.points, n);  // scattered first writes, on all threads
   resize_for_parallel_write(sites.input_index, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
-    for (std::size_t i = begin; i < end; ++i) {
-      const Point2 p = scaled(input[i]);
-      const std::uint32_t slot = mine[plan.bucket(code_of(p))]++;
-      sites.points[slot] = p;
-      sites.input_index[slot] = static_cast<std::int32_t>(i);
+    const auto distribute = [&](auto bucket) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const Point2 p = scaled(input[i]);
+        const std::uint32_t slot = mine[bucket(i, p)]++;
+        sites.points[slot] = p;
+        sites.input_index[slot] = static_cast<std::int32_t>(i);
+      }
+    };
+    if (keep) {
+      distribute([&](std::size_t i, const Point2&) { return bucket_of[i]; });
+    } else {
+      distribute([&](std::size_t, const Point2& p) { return plan.bucket(code_of(p)); });
     }
   });
   // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
