@@ -200,6 +200,35 @@ TEST_CASE("prepare_sites: equal points in one long run across chunks keep the fi
   }
 }
 
+TEST_CASE("prepare_sites: long runs of equal codes (x as a radix key, signed zeros, equal x) and a sampled split", "[parallel][input]") {
+  // Far outliers make one quantum wide, so the centre's sites share codes in runs of thousands:
+  // the runs are sorted by x as a radix key, then equal x by (y, input index). Signed zeros
+  // must merge; equal x with different y must order by y. Most sites in a tiny cluster: the
+  // top-level split follows the sample down many levels.
+  std::mt19937_64 random(12);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Point2> points;
+  points.push_back({-1e6, -1e6});
+  points.push_back({1e6, 1e6});
+  for (int i = 0; i < 300000; ++i) {
+    const double x = unit(random), y = unit(random);
+    switch (i % 7) {
+      case 0: points.push_back({x, y}); break;
+      case 1: points.push_back({std::ldexp(x, -20), std::ldexp(y, -20)}); break;  // finer than a quantum
+      case 2: points.push_back({0.25, std::ldexp(y, -10)}); break;                 // equal x
+      case 3: points.push_back({(i % 2) ? 0.0 : -0.0, (i % 3) ? -0.0 : 0.0}); break;  // one point
+      case 4: points.push_back({std::ldexp(x, -30), 0.5}); break;
+      case 5: points.push_back(points[points.size() / 2]); break;  // a duplicate of an earlier point
+      default: points.push_back({std::round(x * 64) / 64, std::round(y * 64) / 64}); break;  // a lattice
+    }
+  }
+  for (std::size_t threads : thread_counts) {
+    INFO(threads << " threads");
+    Threads use(threads);
+    check_against_sequential(points, prepare_sites(points));
+  }
+}
+
 TEST_CASE("bucket tree: the sequential split, whatever the threads (8- and 256-site buckets)", "[parallel][grid]") {
   for (const char* distribution : {"uniform", "kuzmin", "clusters", "grid", "line"}) {
     const std::vector<Point2> points = generate_points(distribution, 700000, 5);

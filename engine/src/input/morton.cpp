@@ -12,6 +12,57 @@ Quantiser::Quantiser(const Box& box) : origin_x(box.min_x), origin_y(box.min_y) 
   scale = side > 0 ? static_cast<double>(max) / side : 1.0;
 }
 
+SplitPlan::SplitPlan(const std::vector<std::uint64_t>& sample, std::size_t target) {
+  const std::size_t cap = std::max<std::size_t>(1, sample.size() / std::max<std::size_t>(1, target));
+  struct Leaf {
+    std::size_t slot, count;
+  };
+  std::vector<Leaf> leaves;  // table entries that name a bucket, in code order
+  table_.assign(std::size_t{1} << first_bits, 0);
+  // Fills the table at `offset` (2^bits entries for the digit at `shift`) from `codes`, the
+  // sample codes under it; a digit with more than `cap` of them gets a table of its own.
+  const auto fill = [&](const auto& self, std::vector<std::uint64_t> codes, std::size_t offset, int bits,
+                        int shift) -> void {
+    const std::size_t size = std::size_t{1} << bits;
+    std::vector<std::size_t> start(size + 1, 0);
+    for (std::uint64_t code : codes) ++start[((code >> shift) & (size - 1)) + 1];
+    for (std::size_t d = 0; d < size; ++d) start[d + 1] += start[d];
+    std::vector<std::uint64_t> grouped(codes.size());
+    {
+      std::vector<std::size_t> next(start.begin(), start.end() - 1);
+      for (std::uint64_t code : codes) grouped[next[(code >> shift) & (size - 1)]++] = code;
+    }
+    codes.clear();
+    codes.shrink_to_fit();
+    for (std::size_t d = 0; d < size; ++d) {
+      const std::size_t count = start[d + 1] - start[d];
+      if (count > cap && shift > 0) {
+        const std::size_t table = table_.size();
+        table_.resize(table + (std::size_t{1} << next_bits), 0);
+        table_[offset + d] = refined | static_cast<std::uint32_t>(table);
+        self(self, std::vector<std::uint64_t>(grouped.begin() + static_cast<std::ptrdiff_t>(start[d]),
+                                              grouped.begin() + static_cast<std::ptrdiff_t>(start[d + 1])),
+             table, next_bits, shift - next_bits);
+      } else {
+        leaves.push_back({offset + d, count});
+      }
+    }
+  };
+  fill(fill, sample, 0, first_bits, first_shift);
+  // Consecutive entries share a bucket while their sample counts add up to at most cap.
+  std::uint32_t bucket = 0;
+  std::size_t held = 0;
+  for (const Leaf& leaf : leaves) {
+    if (held > 0 && held + leaf.count > cap) {
+      ++bucket;
+      held = 0;
+    }
+    table_[leaf.slot] = bucket;
+    held += leaf.count;
+  }
+  buckets_ = std::size_t{bucket} + 1;
+}
+
 namespace {
 
 // The sort works on two pairs of arrays: side 0 is the caller's (where the result must end),

@@ -42,6 +42,37 @@ inline std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
   return spread(qx) | (spread(qy) << 1);
 }
 
+/// The top-level split of a Morton sort, planned from a sample of the codes: buckets that are
+/// consecutive intervals of codes, each holding about 1/target of the sample (more where one
+/// code alone holds more). bucket(code) never decreases as code grows, and is below buckets().
+/// A table of the top 12 code bits refines a digit that holds too much of the sample by
+/// tables of the next 8 bits, down to single codes: a site of a dense cluster looks up a
+/// few entries, one of an even spread one.
+class SplitPlan {
+ public:
+  SplitPlan(const std::vector<std::uint64_t>& sample, std::size_t target);
+  std::size_t buckets() const { return buckets_; }
+  /// True when some code takes more than one table to look up.
+  bool deep() const { return table_.size() > (std::size_t{1} << first_bits); }
+  std::uint32_t bucket(std::uint64_t code) const {
+    std::uint32_t entry = table_[code >> first_shift];
+    int shift = first_shift;
+    while (entry & refined) {
+      shift -= next_bits;
+      entry = table_[(entry & ~refined) + ((code >> shift) & ((1u << next_bits) - 1))];
+    }
+    return entry;
+  }
+
+ private:
+  static constexpr int first_bits = 12, next_bits = 8;
+  static constexpr int first_shift = 2 * Quantiser::bits - first_bits;
+  static_assert(first_shift % next_bits == 0, "the last table must end at bit 0");
+  static constexpr std::uint32_t refined = 1u << 31;  // entry: offset of the next table
+  std::vector<std::uint32_t> table_;
+  std::size_t buckets_ = 1;
+};
+
 /// Sorts (codes, values) by code, stably: equal codes keep their order. codes must be
 /// 2 * Quantiser::bits wide. Radix sort, most significant digits first, on all host threads.
 void sort_by_code(HostVector<std::uint64_t>& codes, HostVector<std::int32_t>& values);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <limits>
 #include <ranges>
 #include <string>
@@ -39,6 +40,12 @@ int exact_scale_exponent(double max_abs, double min_nonzero_abs) {
     if (e < limit) e = limit;
   }
   return e;
+}
+
+// x's bits as an unsigned number in the order of x (for x not NaN; -0.0 before +0.0).
+std::uint64_t ordered_bits(double x) {
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  return (bits >> 63) ? ~bits : bits | (std::uint64_t{1} << 63);
 }
 
 }  // namespace
@@ -111,28 +118,59 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   // on the remaining bits where it lies.
   const Quantiser quantiser(box);
   const auto code_of = [&quantiser](const Point2& p) { return morton_code(quantiser.x(p.x), quantiser.y(p.y)); };
-  constexpr int code_bits = 2 * Quantiser::bits;
-  // Few enough buckets that the distribution writes each one's next cache line before it is
-  // evicted (a few hundred streams per thread), so each holds about 2^16 sites.
-  int top_bits = 1;
-  while (top_bits < 10 && (n >> (top_bits + 16)) > 0) ++top_bits;
-  const int below = code_bits - top_bits;
-  const std::size_t buckets = std::size_t{1} << top_bits;
+  // The top-level split: buckets that are intervals of codes, each meant to hold about 2^16
+  // sites (few enough buckets that the distribution writes each one's next cache line before it
+  // is evicted). Taking the top bits of the code does that for uniform input only: clustered or
+  // heavy-tailed input put most sites in a few top-bit buckets (kuzmin at 4M: four buckets of
+  // ~1M), which then took many full passes on all threads, each with fresh buffers. So the split
+  // follows a strided sample of the codes instead (SplitPlan).
+  std::size_t target = 2;
+  while (target < 1024 && (n >> 16) >= target) target *= 2;
+  const SplitPlan plan = [&] {
+    const std::size_t samples = std::min<std::size_t>(n, std::size_t{1} << 15);
+    std::vector<std::uint64_t> sample(samples);
+    parallel_chunks(samples, chunk_count(samples, 4096), [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) sample[k] = code_of(scaled(input[(2 * k + 1) * n / (2 * samples)]));
+    });
+    return SplitPlan(sample, target);
+  }();
+  const std::size_t buckets = plan.buckets();
   std::vector<std::uint32_t> next(chunks * buckets, 0);
+  // Where the plan is deep (a site of a dense cluster looks up several tables), each site's
+  // bucket is kept from the count for the distribution (kuzmin 4M: 131 -> 116 ms, 140 -> 137);
+  // else it is found again (uniform 4M: keeping it cost 76 -> 81 ms).
+  const bool keep = plan.deep() && buckets <= 65536;
+  HostVector<std::uint16_t> bucket_of;
+  if (keep) resize_for_parallel_write(bucket_of, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
-    for (std::size_t i = begin; i < end; ++i) ++mine[code_of(scaled(input[i])) >> below];
+    if (!keep) {
+      for (std::size_t i = begin; i < end; ++i) ++mine[plan.bucket(code_of(scaled(input[i])))];
+      return;
+    }
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t bucket = plan.bucket(code_of(scaled(input[i])));
+      bucket_of[i] = static_cast<std::uint16_t>(bucket);
+      ++mine[bucket];
+    }
   });
   const std::vector<std::size_t> bucket_start = distribution_slots(next, chunks, buckets);
   resize_for_parallel_write(sites.points, n);  // scattered first writes, on all threads
   resize_for_parallel_write(sites.input_index, n);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     std::uint32_t* mine = next.data() + chunk * buckets;
-    for (std::size_t i = begin; i < end; ++i) {
-      const Point2 p = scaled(input[i]);
-      const std::uint32_t slot = mine[code_of(p) >> below]++;
-      sites.points[slot] = p;
-      sites.input_index[slot] = static_cast<std::int32_t>(i);
+    const auto distribute = [&](auto bucket) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const Point2 p = scaled(input[i]);
+        const std::uint32_t slot = mine[bucket(i, p)]++;
+        sites.points[slot] = p;
+        sites.input_index[slot] = static_cast<std::int32_t>(i);
+      }
+    };
+    if (keep) {
+      distribute([&](std::size_t i, const Point2&) { return bucket_of[i]; });
+    } else {
+      distribute([&](std::size_t, const Point2& p) { return plan.bucket(code_of(p)); });
     }
   });
   // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
@@ -174,25 +212,57 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     thread_local std::vector<std::uint64_t> codes, codes_scratch;
     thread_local std::vector<std::int32_t> position, position_scratch, index;
     thread_local std::vector<Point2> points;
+    thread_local std::vector<std::uint64_t> run_keys_scratch;
+    thread_local std::vector<std::int32_t> run_values_scratch;
     for (auto* v : {&codes, &codes_scratch}) v->resize(std::max(v->size(), m));
     for (auto* v : {&position, &position_scratch, &index}) v->resize(std::max(v->size(), m));
     points.resize(std::max(points.size(), m));
+    std::uint64_t differ = 0;  // the bits in which the bucket's codes differ
     for (std::size_t j = 0; j < m; ++j) {
       points[j] = sites.points[lo + j];
       index[j] = sites.input_index[lo + j];
       codes[j] = code_of(points[j]);
+      differ |= codes[j] ^ codes[0];
       position[j] = static_cast<std::int32_t>(j);
     }
-    sort_by_code_sequential(codes.data(), position.data(), codes_scratch.data(), position_scratch.data(), m, below);
+    sort_by_code_sequential(codes.data(), position.data(), codes_scratch.data(), position_scratch.data(), m,
+                            std::bit_width(differ));
     std::size_t repeats_here = 0;
     for (std::size_t k = 0; k < m;) {
       std::size_t last = k + 1;
       while (last < m && codes[last] == codes[k]) ++last;
       if (last - k >= 2) {  // positions in the run are in input order: ties keep it
-        std::sort(position.begin() + static_cast<std::ptrdiff_t>(k), position.begin() + static_cast<std::ptrdiff_t>(last),
-                  [&](std::int32_t a, std::int32_t b) {
-                    return point_less(points[a], points[b]) || (!point_less(points[b], points[a]) && a < b);
-                  });
+        const auto by_point = [&](std::int32_t a, std::int32_t b) {
+          return point_less(points[a], points[b]) || (!point_less(points[b], points[a]) && a < b);
+        };
+        std::int32_t* run = position.data() + k;
+        const std::size_t length = last - k;
+        if (length <= 32) {
+          std::sort(run, run + length, by_point);
+        } else {
+          // A long run (kuzmin's centre: 3.85M of 4M sites in runs, up to 13K long): sorted
+          // stably by x as a radix key (its bits in an order that follows x, -0.0 as +0.0 so
+          // that equal x means equal key), then equal x by (y, position).
+          std::uint64_t* keys = codes_scratch.data();
+          std::int32_t* values = position_scratch.data();
+          run_keys_scratch.resize(std::max(run_keys_scratch.size(), length));
+          run_values_scratch.resize(std::max(run_values_scratch.size(), length));
+          std::uint64_t key_differ = 0;
+          for (std::size_t j = 0; j < length; ++j) {
+            keys[j] = ordered_bits(points[run[j]].x + 0.0);
+            key_differ |= keys[j] ^ keys[0];
+            values[j] = run[j];
+          }
+          sort_by_code_sequential(keys, values, run_keys_scratch.data(), run_values_scratch.data(), length,
+                                  std::bit_width(key_differ));
+          std::copy(values, values + length, run);
+          for (std::size_t g = 0; g < length;) {
+            std::size_t h = g + 1;
+            while (h < length && keys[h] == keys[g]) ++h;
+            if (h - g >= 2) std::sort(run + g, run + h, by_point);
+            g = h;
+          }
+        }
         for (std::size_t j = k + 1; j < last; ++j) {
           const Point2 &before = points[position[j - 1]], &here = points[position[j]];
           repeats_here += before.x == here.x && before.y == here.y;

@@ -214,10 +214,22 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
     const std::size_t count = mesh.triangles.size();
     const std::size_t chunks = chunk_count(count);
     std::vector<std::vector<std::int64_t>> open(chunks);
+    // A few hundred open edges among tens of millions of links: blocks of triangles are
+    // first tested as a whole (links are >= 0 and no_neighbor is -1, so a block holds one
+    // exactly when the OR of its links is negative; the OR vectorises), then searched.
+    static_assert(no_neighbor < 0);
     parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t) {
-        for (int k = 0; k < 3; ++k) {
-          if (mesh.neighbors[t][k] == no_neighbor) open[chunk].push_back(pack(static_cast<std::int32_t>(t), k));
+      constexpr std::size_t block = 64;
+      for (std::size_t lo = begin; lo < end; lo += block) {
+        const std::size_t hi = std::min(end, lo + block);
+        const std::int32_t* links = mesh.neighbors[lo].data();
+        std::int32_t any = 0;
+        for (std::size_t j = 0; j < 3 * (hi - lo); ++j) any |= links[j];
+        if (any >= 0) continue;
+        for (std::size_t t = lo; t < hi; ++t) {
+          for (int k = 0; k < 3; ++k) {
+            if (mesh.neighbors[t][k] == no_neighbor) open[chunk].push_back(pack(static_cast<std::int32_t>(t), k));
+          }
         }
       }
     });
