@@ -113,9 +113,9 @@ SiteSet prepare_sites(std::span<const Point2> input) {
 
   // 2. Morton order, stable: equal points share a code, so each group of duplicates ends up in
   // one run of equal codes, its smallest input index first. The scaled points travel with the
-  // sort (no random gather afterwards): one pass distributes them on the top bits of their
-  // codes straight into sites.points and sites.input_index, stably; then each bucket is sorted
-  // on the remaining bits where it lies.
+  // sort (no random gather afterwards): one pass distributes them into buckets (intervals of
+  // codes) straight into sites.points and sites.input_index, stably; then each bucket is sorted
+  // where it lies.
   const Quantiser quantiser(box);
   const auto code_of = [&quantiser](const Point2& p) { return morton_code(quantiser.x(p.x), quantiser.y(p.y)); };
   // The top-level split: buckets that are intervals of codes, each meant to hold about 2^16
