@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 
 #include "cuda_internal.hpp"
 #include "input/parallel.hpp"
@@ -392,10 +393,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   g.cell_start = d_cell_start.get();
   g.points = d_sorted.get();
   timer.begin("stars");
-  // EXPANSE_CUDA_BLOCKS_PER_SM (4 or 8) caps the star kernel's registers so that that many
-  // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread).
-  // 8 (64 registers) measured fastest on the H100 (2026-11-23, 4096^2: uniform 230 ms against
-  // 237 at 4 and 304 at 2; kuzmin 634 against 680 and 866).
+  // EXPANSE_CUDA_BLOCKS_PER_SM (6 or 8) caps the star kernel's registers so that that many
+  // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
+  // 64 at 8, 80 at 6). 8 measured fastest on the H100 (2026-11-23, one-pass kernel, 4096^2:
+  // uniform 230 ms against 237 at 4 blocks and 304 at 2; kuzmin 634 against 680 and 866).
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
   const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
@@ -415,20 +416,20 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
         order, WalkPass::only, nullptr);
-  } else if (blocks_per_sm >= 8) {
-    star_kernel<StarSearch::boxes, 8><<<blocks_for(n, 128), 128, 0, stream>>>(
-        g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-        pass_budget, order, pass, d_retry.get());
-    if (two_passes)
-      star_retry_kernel<StarSearch::boxes, 8><<<retry_blocks, 128, 0, stream>>>(
-          g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
   } else {
-    star_kernel<StarSearch::boxes, 4><<<blocks_for(n, 128), 128, 0, stream>>>(
-        g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-        pass_budget, order, pass, d_retry.get());
-    if (two_passes)
-      star_retry_kernel<StarSearch::boxes, 4><<<retry_blocks, 128, 0, stream>>>(
-          g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
+    auto walk_passes = [&](auto min_blocks) {
+      constexpr int blocks = decltype(min_blocks)::value;
+      star_kernel<StarSearch::boxes, blocks><<<blocks_for(n, 128), 128, 0, stream>>>(
+          g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+          pass_budget, order, pass, d_retry.get());
+      if (two_passes)
+        star_retry_kernel<StarSearch::boxes, blocks><<<retry_blocks, 128, 0, stream>>>(
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
+    };
+    if (blocks_per_sm >= 8)
+      walk_passes(std::integral_constant<int, 8>{});
+    else
+      walk_passes(std::integral_constant<int, 6>{});
   }
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
@@ -506,17 +507,30 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
       link_open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(d_open_sorted.get(), d_slots_sorted.get(), open,
                                                                        d_neighbors.get(), d_counters.get());
       EXPANSE_CUDA(cudaGetLastError());
-      // The audit again, over the linked adjacency: what is open now must be the unpaired rest.
+      // The audit again, over the linked adjacency: what is open now must be the unpaired rest,
+      // listed for the seam stage (which would otherwise read all the links to find them).
       EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
       EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-      audit(nullptr, nullptr);
+      audit(d_open.get(), d_slots.get());
       EXPANSE_CUDA(cudaMemcpyAsync(&words[14], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
       const unsigned duplicates = words[10], linked = words[13], bad_after = words[14], open_after = words[15];
       audited = duplicates == 0 && bad_after == 0 && open_after + linked == open;
       open_pairs_linked = linked / 2;
+      if (audited) {
+        std::vector<int> slots(open_after);
+        EXPANSE_CUDA(cudaMemcpyAsync(slots.data(), d_slots.get(), open_after * sizeof(int), cudaMemcpyDeviceToHost,
+                                     stream));
+        EXPANSE_CUDA(cudaStreamSynchronize(stream));
+        std::sort(slots.begin(), slots.end());  // listed in the atomics' order; the seam's is the triangles'
+        partial.open_slots.assign(slots.begin(), slots.end());
+        partial.open_slots_listed = true;
+      }
+    } else if (audited) {
+      partial.open_slots.clear();  // nothing open
+      partial.open_slots_listed = true;
     }
     timer.end();
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "expanse/error.hpp"
 #include "expanse/generate.hpp"
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
@@ -49,6 +50,27 @@ struct Fixture {
       const BucketTree tree = on_demand ? BucketTree::on_demand(sites) : BucketTree(sites);
       complete(partial, tree, removed);
     }
+    if (kept.triangles.empty()) return;
+    // With the adjacency given and its open links listed (as the CUDA backend's audit lists
+    // them): the seam starts from the list, and makes what it makes from a scan of the links.
+    PartialTriangulation scanned = kept, listed = kept;
+    scanned.neighbors = derive_neighbors(kept.triangles);
+    listed.neighbors = scanned.neighbors;
+    for (std::size_t t = 0; t < listed.triangles.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const Triangle& tri = listed.triangles[t];
+        if (listed.neighbors[t][k] == no_neighbor && !hull.is_outer_edge(tri[(k + 1) % 3], tri[(k + 2) % 3]))
+          listed.open_slots.push_back(static_cast<std::int64_t>(3 * t) + k);
+      }
+    }
+    listed.open_slots_listed = true;
+    {
+      INFO("open links listed");
+      complete(listed, BucketTree(sites), removed);
+    }
+    complete_seam(sites, hull, BucketTree(sites), scanned);
+    CHECK(listed.triangles == scanned.triangles);
+    CHECK(listed.neighbors == scanned.neighbors);
   }
 
   void complete(PartialTriangulation& partial, const BucketTree& tree, std::size_t removed) {
@@ -195,5 +217,24 @@ TEST_CASE("adjacency audit trusts consistent device adjacency and catches spurio
       result.push_back({f.sites.input_index[t[0]], f.sites.input_index[t[1]], f.sites.input_index[t[2]]});
     }
     CHECK(test::compare_triangles(result, f.oracle_input).equal);
+  }
+}
+
+TEST_CASE("seam stage refuses a listed open link that is linked", "[seam]") {
+  Fixture f("uniform", 3000);
+  PartialTriangulation partial;
+  for (std::size_t t = 0; t < f.oracle_sites.size(); ++t) {
+    if (t % 50 != 0) partial.triangles.push_back(f.oracle_sites[t]);
+  }
+  partial.neighbors = derive_neighbors(partial.triangles);
+  std::size_t linked = 0;
+  while (partial.neighbors[linked][0] == no_neighbor) ++linked;
+  partial.open_slots = {static_cast<std::int64_t>(3 * linked)};  // not open: a backend's bug
+  partial.open_slots_listed = true;
+  try {
+    complete_seam(f.sites, f.hull, BucketTree(f.sites), partial);
+    FAIL("a linked edge listed as open was not refused");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::internal);
   }
 }

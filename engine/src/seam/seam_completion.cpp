@@ -194,7 +194,10 @@ std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& tri
 
 SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree& tree,
                         PartialTriangulation& mesh) {
-  if (mesh.neighbors.size() != mesh.triangles.size()) mesh.neighbors = derive_neighbors(mesh.triangles);
+  if (mesh.neighbors.size() != mesh.triangles.size()) {
+    mesh.neighbors = derive_neighbors(mesh.triangles);
+    mesh.open_slots_listed = false;  // listed for an adjacency that is gone
+  }
   const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
   reserve_prefaulted(mesh.triangles, expected);
   reserve_prefaulted(mesh.neighbors, expected);
@@ -209,6 +212,17 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
     const std::int32_t s = search.nearest_site({0.5 * box.min_x + 0.5 * box.max_x, 0.5 * box.min_y + 0.5 * box.max_y});
     growth.seed(s, search.nearest_neighbor(s));
     stats.open_edges = 2;
+  } else if (mesh.open_slots_listed) {
+    // The backend listed them (in triangle order, as the scan below finds them).
+    for (const std::int64_t slot : mesh.open_slots) {
+      const auto t = static_cast<std::size_t>(slot / 3);
+      const int k = static_cast<int>(slot % 3);
+      if (slot < 0 || t >= mesh.triangles.size() || mesh.neighbors[t][static_cast<std::size_t>(k)] != no_neighbor)
+        throw Error(ErrorCode::internal, "the backend listed a link as open that is not");
+      const Triangle& tri = mesh.triangles[t];
+      const std::int32_t x = tri[static_cast<std::size_t>((k + 1) % 3)], y = tri[static_cast<std::size_t>((k + 2) % 3)];
+      if (growth.open(y, x, pack(static_cast<std::int32_t>(t), k))) ++stats.open_edges;
+    }
   } else {
     // The open edges in triangle order, found on all threads, queued in that order.
     const std::size_t count = mesh.triangles.size();
