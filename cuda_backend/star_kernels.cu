@@ -273,8 +273,12 @@ constexpr int kThreads = 256;
 /// candidates at a time, so the smaller the better while the second pass stays short. Measured
 /// on the H100 in one run (2026-11-23, star kernel, 4096^2 / 512^2): one pass 154 / 13.7 ms
 /// uniform, 506 / 30.2 kuzmin; first budget 2^12: 105 / 11.4, 161 / 18.7; 2^10: 100 / 8.7,
-/// 147 / 6.0 (cuda_backend/results/2026-11-23-h100-s4, call 3).
-constexpr unsigned kFirstPassBudget = 1u << 10;
+/// 147 / 6.0 (cuda_backend/results/2026-11-23-h100-s4, call 3). Small inputs fill few waves, and
+/// their kernel is the tail of their heaviest sites: at 512^2 a budget of 2^8 gave 7.2 / 5.7 /
+/// 5.1 / 5.4 ms (uniform / gaussian / grid / kuzmin) against 8.7 / 7.8 / 5.2 / 6.0 at 2^10; at
+/// 4096^2 it lost (gaussian 130 against 104, kuzmin 259 against 148; 2^9: 98 / 105 / 330 / 166
+/// against 100 / 104 / 330 / 148), session 5 call 4. Between the two sizes it is not measured.
+unsigned first_pass_budget(std::size_t sites) { return sites <= (std::size_t{1} << 18) ? 1u << 8 : 1u << 10; }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
 }  // namespace
@@ -400,10 +404,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
   const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
-  // kFirstPassBudget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
+  // first_pass_budget(n) (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
   const unsigned first_budget =
-      rings ? 0u : first_env ? static_cast<unsigned>(std::strtoul(first_env, nullptr, 10)) : kFirstPassBudget;
+      rings ? 0u : first_env ? static_cast<unsigned>(std::strtoul(first_env, nullptr, 10)) : first_pass_budget(n);
   const bool two_passes = first_budget > 0 && first_budget < budget;
   // EXPANSE_CUDA_ORDER=morton runs the threads in the sites' Morton order (prepare_sites sorts
   // them so; rank maps a site to its local id) instead of cell order.
