@@ -18,8 +18,8 @@
 #                the CPU backend and CGAL up to 1024^2, threads per block up to 1024^2
 #                                                                -> results/{scaling,threads}.jsonl
 #   vulkan-4096  expanse-bench scaling at 4096^2 uniform, CUDA and Vulkan (the free function per
-#                repetition, as `figures`), then Vulkan alone with its star loop budget at 20000
-#                and 262144 (default 65536): deferred sites and seam time against star time
+#                repetition, as `figures`), then Vulkan alone with its star loop budget at 65536
+#                and 262144 (default 20000): deferred sites and seam time against star time
 #                                                  -> results/vulkan-4096.jsonl, printed
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
@@ -100,7 +100,7 @@ for what in "$@"; do
       EXPANSE_COMMIT="$commit" step "scaling 4096^2: cuda, vulkan" 240 "$out/experiments.log" "$bench" \
         --experiment scaling --backends cuda,vulkan --dist uniform -n 4096^2 --layouts default \
         -r 5 --warmup 1 --note "device run" -o "$f"
-      for budget in 20000 262144; do
+      for budget in 65536 262144; do
         EXPANSE_VULKAN_LOOP_BUDGET=$budget EXPANSE_COMMIT="$commit" \
           step "scaling 4096^2: vulkan, loop budget $budget" 120 "$out/experiments.log" "$bench" \
           --experiment scaling --backends vulkan --dist uniform -n 4096^2 --layouts default \

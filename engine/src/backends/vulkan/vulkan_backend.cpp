@@ -360,17 +360,18 @@ class VulkanBackend final : public Backend {
   // taking it, so a batch makes at most 4 x 8 x 1000 back-edges; a site needs about 120 (1M
   // uniform), and the ~0.07% that would need more are cheaper in the seam stage: 2000 cut the
   // deferrals by a quarter but cost more device time than the seam saved. On GPUs a
-  // star walk still gets a budget, 2^16 units as the CUDA kernel's: the kernel lasts as long as
-  // its slowest invocation, and the rare walk that would scan half the grid is cheaper in the
-  // seam stage. Measured on the H100 (2026-11-23, 4096^2 uniform, medians of 3-5, same run):
-  // 20,000: star shader 79.7 ms, 755 sites deferred, seam 54 ms, total 410 ms; 65,536: 108.1,
-  // 246, 31, 362 ms; 262,144: 222.1, 167, 40, 517 ms.
+  // star walk still gets a budget, 20,000 units: the kernel lasts as long as its slowest
+  // invocation, and the rare walk that would scan half the grid is cheaper in the seam stage.
+  // Measured on the H100 against 65,536 (2026-11-23, one run, two rounds, medians of 5, uniform
+  // 256^2 / 512^2 / 1024^2 / 2048^2 / 4096^2): star shader 6.2 / 11.2 / 15.3 / 31 / 80 ms
+  // against 19 / 37 / 37 / 46 / 108, host to host 16 / 29 / 44 / 101-122 / 329-398 against
+  // 27-30 / 54-56 / 65 / 121-125 / 336-364 (cuda_backend/results/2026-11-23-h100-s5, call 6).
   // EXPANSE_VULKAN_LOOP_BUDGET overrides it (for experiments).
   std::uint32_t loop_budget(bool star) const {
     if (const char* env = std::getenv("EXPANSE_VULKAN_LOOP_BUDGET"))
       return std::uint32_t(std::max(1L, std::atol(env)));
     if (context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return 1000u;
-    return star ? 65536u : 1000000000u;
+    return star ? 20000u : 1000000000u;
   }
 
   std::uint32_t workgroup(std::uint32_t wanted) const {
