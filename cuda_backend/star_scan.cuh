@@ -95,21 +95,24 @@ EXPANSE_DEVICE_FORCE void clip_row(const GridView& g, int y, const SearchBounds&
   if (hi < HUGE_VAL) *x1 = min(*x1, g.cell_x(hi));
 }
 
-/// The exact verdict on candidate ip at p, which the filters could not decide: 1 if it is better
-/// than `best` (nearer to s, or a smaller circle's apex of a->b under CGAL's perturbation), 0 if
-/// not, 2 if the device cannot decide. Out of line: the exact arithmetic needs far more registers
-/// than the scan, and inlined it would set the register count, and so the occupancy, of the
-/// whole kernel for a path few candidates take.
-EXPANSE_DEVICE_NOINLINE int decide_exactly(bool nearest, double2 ps, double2 pa, double2 pb, int best, double2 best_p,
-                                           int ip, double2 p) {
-  if (nearest) {
-    const int cmp = compare_distance(ps, p, best_p);
+/// The exact verdict on candidate ip, which the filters could not decide: 1 if it is better
+/// than `best` (nearer to site s, or a smaller circle's apex of a->b under CGAL's perturbation),
+/// 0 if not, 2 if the device cannot decide. Out of line: the exact arithmetic needs far more
+/// registers than the scan, and inlined it would set the register count, and so the occupancy,
+/// of the whole kernel for a path few candidates take. It takes site ids and loads their points
+/// itself: across the call the caller's live registers are spilled at the kernel's cap, and ten
+/// doubles of arguments were ten more.
+EXPANSE_DEVICE_NOINLINE int decide_exactly(const double2* points, bool nearest, int s, int a, int b, int best, int ip) {
+  const double2 p = load_site(points, ip);
+  if (nearest) {  // a filter leaves a nearest-neighbour candidate undecided only against a best
+    const int cmp = compare_distance(load_site(points, s), p, load_site(points, best));
     return cmp == kUncertain ? 2 : (cmp < 0 || (cmp == 0 && ip < best)) ? 1 : 0;
   }
+  const double2 pa = load_site(points, a), pb = load_site(points, b);
   const int o = orient(pa, pb, p);
   if (o == kUncertain) return 2;
   if (o <= 0) return 0;
-  const int sign = best < 0 ? 1 : incircle_perturbed(pa, pb, best_p, p);
+  const int sign = best < 0 ? 1 : incircle_perturbed(pa, pb, load_site(points, best), p);
   return sign == kUncertain ? 2 : sign > 0 ? 1 : 0;
 }
 
@@ -498,16 +501,15 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
 
     // Decide the pending candidate exactly, then resume the scan after it.
     const int ip = pending;
-    const double2 p = load_site(g.points, ip);
-    const int verdict = decide_exactly(phase == nearest, ps, pa, pb, best, best_p, ip, p);
+    const int verdict = decide_exactly(g.points, phase == nearest, i, ia, ib, best, ip);
     if (verdict == 2) {
       reason = DeferReason::undecided;
       break;
     }
     if (verdict == 1) {
       best = ip;
-      best_p = p;
-      best_d2 = dist2(ps, p);
+      best_p = load_site(g.points, ip);
+      best_d2 = dist2(ps, best_p);
     }
     slot = static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
