@@ -47,7 +47,12 @@ BackendKind default_backend();
 namespace expanse {
 
 /// Keeps a backend (and its device, pipelines, buffers) alive across calls: what a caller that
-/// triangulates repeatedly wants. Not thread-safe; one per thread.
+/// triangulates repeatedly wants. Not thread-safe; one per thread. Device memory: the CUDA
+/// backend allocates from the device's default memory pool and leaves what it freed there for
+/// the next call (the pool is not trimmed); the Vulkan backend keeps its buffers in a context shared
+/// by the whole process (the free function's calls included), grown to the largest input and
+/// released after a call that leaves more than a quarter of the largest device-local heap
+/// (EXPANSE_VULKAN_KEEP_MB sets the limit; 0 keeps nothing).
 class Triangulator {
  public:
   /// Throws like triangulate() when the requested backend is unavailable.
