@@ -529,12 +529,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
                                      stream));
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         std::sort(slots.begin(), slots.end());  // listed in the atomics' order; the seam's is the triangles'
-        partial.open_slots.assign(slots.begin(), slots.end());
-        partial.open_slots_listed = true;
+        partial.open_slots.emplace(slots.begin(), slots.end());
       }
     } else if (audited) {
-      partial.open_slots.clear();  // nothing open
-      partial.open_slots_listed = true;
+      partial.open_slots.emplace();  // nothing open
     }
     timer.end();
   }

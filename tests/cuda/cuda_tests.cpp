@@ -207,7 +207,7 @@ int main(int argc, char** argv) {
   grow_case(*backend, "ring search: uniform", generate_points("uniform", 300, 1), per_site, true, false);
   grow_case(*backend, "ring search: grid", square_grid(24), per_site, true, true);
   unsetenv("EXPANSE_CUDA_SEARCH");
-  for (const char* blocks : {"4", "8"}) {
+  for (const char* blocks : {"6", "8"}) {
     setenv("EXPANSE_CUDA_BLOCKS_PER_SM", blocks, 1);
     grow_case(*backend, std::string("blocks per SM ") + blocks + ": clusters", generate_points("gaussian", 500, 2),
               per_site, true, false);

@@ -56,14 +56,15 @@ struct Fixture {
     PartialTriangulation scanned = kept, listed = kept;
     scanned.neighbors = derive_neighbors(kept.triangles);
     listed.neighbors = scanned.neighbors;
+    std::vector<std::int64_t> slots;
     for (std::size_t t = 0; t < listed.triangles.size(); ++t) {
       for (int k = 0; k < 3; ++k) {
         const Triangle& tri = listed.triangles[t];
         if (listed.neighbors[t][k] == no_neighbor && !hull.is_outer_edge(tri[(k + 1) % 3], tri[(k + 2) % 3]))
-          listed.open_slots.push_back(static_cast<std::int64_t>(3 * t) + k);
+          slots.push_back(static_cast<std::int64_t>(3 * t) + k);
       }
     }
-    listed.open_slots_listed = true;
+    listed.open_slots = std::move(slots);
     {
       INFO("open links listed");
       complete(listed, BucketTree(sites), removed);
@@ -229,8 +230,7 @@ TEST_CASE("seam stage refuses a listed open link that is linked", "[seam]") {
   partial.neighbors = derive_neighbors(partial.triangles);
   std::size_t linked = 0;
   while (partial.neighbors[linked][0] == no_neighbor) ++linked;
-  partial.open_slots = {static_cast<std::int64_t>(3 * linked)};  // not open: a backend's bug
-  partial.open_slots_listed = true;
+  partial.open_slots = std::vector<std::int64_t>{static_cast<std::int64_t>(3 * linked)};  // not open: a bug
   try {
     complete_seam(f.sites, f.hull, BucketTree(f.sites), partial);
     FAIL("a linked edge listed as open was not refused");

@@ -97,15 +97,14 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   stats.hull_sites = hull.sites.size();
 
   // The input is accepted: from here on `mesh` is rewritten, the storage of its two large
-  // vectors handed to the backend to fill again. Emptied first: an error leaves no stale part.
+  // vectors handed to the backend to fill again (allocate_full_triangulation empties them).
+  // Emptied first, so that an error leaves no stale part.
   detail::PartialTriangulation recycled;
   recycled.triangles.swap(mesh.triangles);
   recycled.neighbors.swap(mesh.neighbors);
-  recycled.triangles.clear();
-  recycled.neighbors.clear();
+  mesh.hull.clear();
   mesh.representative.clear();
   mesh.stats = Stats{};
-  mesh.hull = detail::to_input_indices(hull.sites, sites);
 
   if (sites.size() >= 3 && !hull.collinear) {
     detail::GrowResult grown = timed(stats, "grow", [&] {
@@ -143,6 +142,7 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
     });
   }
   stats.triangles = mesh.triangles.size();
+  mesh.hull = detail::to_input_indices(hull.sites, sites);
   mesh.representative = std::move(sites.representative);  // the last use of sites
   stats.total_ms = ms_since(start);
   mesh.stats = std::move(stats);

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "expanse/types.hpp"
@@ -17,11 +18,10 @@ struct PartialTriangulation {
   /// Optional adjacency (same convention as Mesh::neighbors, no_neighbor for hull *and* open
   /// edges). Empty: the seam stage derives it.
   std::vector<TriangleNeighbors> neighbors;
-  /// With open_slots_listed: every link of `neighbors` left open inside the hull (no_neighbor on
-  /// an edge that is not a hull edge), as 3 t + k, ascending. A backend whose audit lists them
-  /// spares the seam stage a read of the whole adjacency for them (400 MB at 4096^2).
-  std::vector<std::int64_t> open_slots;
-  bool open_slots_listed = false;
+  /// When the backend's audit listed them: every link of `neighbors` left open inside the hull
+  /// (no_neighbor on an edge that is not a hull edge), as 3 t + k, ascending. It spares the seam
+  /// stage a read of the whole adjacency for them (400 MB at 4096^2).
+  std::optional<std::vector<std::int64_t>> open_slots;
   std::size_t deferred_expansions = 0;  ///< for stats only
 };
 

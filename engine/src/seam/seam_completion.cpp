@@ -196,7 +196,7 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
                         PartialTriangulation& mesh) {
   if (mesh.neighbors.size() != mesh.triangles.size()) {
     mesh.neighbors = derive_neighbors(mesh.triangles);
-    mesh.open_slots_listed = false;  // listed for an adjacency that is gone
+    mesh.open_slots.reset();  // listed for an adjacency that is gone
   }
   const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
   reserve_prefaulted(mesh.triangles, expected);
@@ -212,9 +212,9 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
     const std::int32_t s = search.nearest_site({0.5 * box.min_x + 0.5 * box.max_x, 0.5 * box.min_y + 0.5 * box.max_y});
     growth.seed(s, search.nearest_neighbor(s));
     stats.open_edges = 2;
-  } else if (mesh.open_slots_listed) {
+  } else if (mesh.open_slots) {
     // The backend listed them (in triangle order, as the scan below finds them).
-    for (const std::int64_t slot : mesh.open_slots) {
+    for (const std::int64_t slot : *mesh.open_slots) {
       const auto t = static_cast<std::size_t>(slot / 3);
       const int k = static_cast<int>(slot % 3);
       if (slot < 0 || t >= mesh.triangles.size() || mesh.neighbors[t][static_cast<std::size_t>(k)] != no_neighbor)

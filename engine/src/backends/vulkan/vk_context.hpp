@@ -177,9 +177,10 @@ class BufferCache {
 /// A fixed ring of host-visible staging buffers (slots x chunk bytes, 2 x 32 MiB by default)
 /// through which uploads and downloads of any size pass, one chunk per submission: the host's
 /// copy of one chunk (on all host threads) overlaps the transfer of the next, and host-visible
-/// memory stays bounded whatever the input size. Full-size staging (1.1 GB at 4096^2) cost
-/// most of the 365 ms per call that NVIDIA's driver takes to allocate and pin it. Used under
-/// Context::mutex() only; made once per context.
+/// memory stays bounded whatever the input size. Full-size staging (1.1 GB at 4096^2) was
+/// allocated per call, within the 365 ms per call that allocating took on the H100 (staging and
+/// device buffers together; the split was not measured). Used under Context::mutex() only; made
+/// once per context.
 class StagingRing {
  public:
   /// Host memory -> a device buffer.
