@@ -50,7 +50,7 @@ std::uint64_t ordered_bits(double x) {
 
 }  // namespace
 
-SiteSet prepare_sites(std::span<const Point2> input) {
+InputScan scan_input(std::span<const Point2> input) {
   if (input.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
     throw Error(ErrorCode::too_large, "at most 2^31 - 1 points are supported, got " +
                                           std::to_string(input.size()));
@@ -58,7 +58,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   const std::size_t n = input.size();
   const std::size_t chunks = chunk_count(n);
 
-  // 1. Validation, the magnitude range and the bounding box, per chunk; chunk order makes the
+  // Validation, the magnitude range and the bounding box, per chunk; chunk order makes the
   // first bad point the one reported. The box is taken before scaling: scaling by 2^e is exact
   // and monotone, so it commutes with min and max (ties keep the first point either way).
   struct Scan {
@@ -66,7 +66,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     double min_nonzero_abs = std::numeric_limits<double>::infinity();
     Box box{};
   };
-  std::vector<Scan> scans(chunks);
+  std::vector<Scan> scans(std::max<std::size_t>(chunks, 1));
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     Scan r;
     for (std::size_t i = begin; i < end; ++i) {
@@ -96,22 +96,27 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     box.max_y = std::max(box.max_y, r.box.max_y);
   }
 
-  SiteSet sites;
-  const int e = exact_scale_exponent(max_abs, min_nonzero_abs);
-  sites.scale_exponent = e;
-  // Multiplying by 2^e rounds x * 2^e once, as ldexp does: the same double (and exact here).
-  const double factor = e <= 1023 ? std::ldexp(1.0, e) : 0.0;
-  const auto scaled = [e, factor](const Point2& p) {
-    if (e <= 1023) return Point2{p.x * factor, p.y * factor};
-    return Point2{std::ldexp(p.x, e), std::ldexp(p.y, e)};
-  };
+  InputScan scan;
+  scan.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
+  scan.factor = scan.scale_exponent <= 1023 ? std::ldexp(1.0, scan.scale_exponent) : 0.0;
   if (n > 0) {
-    const Point2 low = scaled({box.min_x, box.min_y}), high = scaled({box.max_x, box.max_y});
-    box = {low.x, low.y, high.x, high.y};
+    const Point2 low = scan.scaled({box.min_x, box.min_y}), high = scan.scaled({box.max_x, box.max_y});
+    scan.bounds = {low.x, low.y, high.x, high.y};
   }
-  sites.bounds = box;
+  return scan;
+}
 
-  // 2. Morton order, stable: equal points share a code, so each group of duplicates ends up in
+SiteSet prepare_sites(std::span<const Point2> input) {
+  const InputScan scan = scan_input(input);
+  const std::size_t n = input.size();
+  const std::size_t chunks = chunk_count(n);
+  SiteSet sites;
+  sites.scale_exponent = scan.scale_exponent;
+  sites.bounds = scan.bounds;
+  const Box box = scan.bounds;
+  const auto scaled = [&scan](const Point2& p) { return scan.scaled(p); };
+
+  // Morton order, stable: equal points share a code, so each group of duplicates ends up in
   // one run of equal codes, its smallest input index first. The scaled points travel with the
   // sort (no random gather afterwards): one pass distributes them into buckets (intervals of
   // codes) straight into sites.points and sites.input_index, stably; then each bucket is sorted
@@ -187,7 +192,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   // Buckets in input order within; sorting (code, position in the bucket) and permuting sorts
   // by (code, input index).
   //
-  // 2b. Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
+  // Runs of equal codes (points closer than one quantum of the box: clusters far smaller than
   // the box, as in heavy-tailed inputs, and duplicates) are put in (x, y) order, stably, so
   // that equal points stand side by side, their smallest input index first. Looking for an
   // equal point through a run in input order cost its length squared (2M kuzmin sites on the
@@ -350,7 +355,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
     });
   }
 
-  // 3. Duplicates: position k repeats the point before it or is a new site; the first position
+  // Duplicates: position k repeats the point before it or is a new site; the first position
   // of a group of equal points represents the group.
   if (repeated.load() == 0) return sites;  // every point is distinct (the usual case)
   std::vector<std::size_t> repeats(chunks + 1, 0);

@@ -1,5 +1,6 @@
 #pragma once
 // Validated, normalised, duplicate-free input: what every backend and the seam stage work on.
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -11,6 +12,22 @@ namespace expanse::detail {
 
 struct Box {
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+
+/// What a pass over the raw input learns: that every coordinate is finite, the power of two to
+/// scale by, and the box of the scaled points.
+struct InputScan {
+  /// Power of two the input is scaled by, so that the largest |coordinate| lies in [0.5, 1)
+  /// (less where that would push a nonzero coordinate below the smallest normal double).
+  int scale_exponent = 0;
+  Box bounds;  ///< of the scaled points
+  double factor = 1.0;  ///< 2^scale_exponent, or 0 where that overflows (ldexp then)
+
+  /// p multiplied by 2^scale_exponent: exact, one rounding as ldexp does.
+  Point2 scaled(const Point2& p) const {
+    if (scale_exponent <= 1023) return {p.x * factor, p.y * factor};
+    return {std::ldexp(p.x, scale_exponent), std::ldexp(p.y, scale_exponent)};
+  }
 };
 
 struct SiteSet {
@@ -28,6 +45,11 @@ struct SiteSet {
 
   std::int32_t size() const { return static_cast<std::int32_t>(points.size()); }
 };
+
+/// Validates (NaN/Inf -> Error(invalid_input) naming the input index; above 2^31 - 1 points
+/// Error(too_large)) and finds the scale and the box: prepare_sites' first pass, alone for a
+/// backend that sorts and merges on its device.
+InputScan scan_input(std::span<const Point2> input);
 
 /// Validates (NaN/Inf -> Error(invalid_input) naming the input index), scales by a power of
 /// two, sorts in Morton order and merges exact duplicates (the smallest input index represents
