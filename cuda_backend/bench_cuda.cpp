@@ -7,6 +7,10 @@
 //   host_to_host_ms  expanse::triangulate(): std::vector points -> Mesh (triangles + neighbours)
 //   host_to_host_reused_ms  the same into the previous repetition's Mesh (Triangulator::
 //                    triangulate(points, mesh)): its storage filled again, no fresh pages
+//                    (pipeline_device_stages_ms: its device stages, the device's own
+//                    preparation of the sites among them)
+//   host_to_host_host_prepare_ms  host_to_host_ms with the sites prepared on the host
+//                    (EXPANSE_CUDA_PREPARE=host), as before the device prepared them
 //   backend_ms       Backend::grow() alone: prepared sites -> triangles + neighbours in vectors
 //   gpu_ms           device stages without transfers (CUDA events)
 #include <algorithm>
@@ -87,8 +91,8 @@ int main(int argc, char** argv) {
       const double t1 = now_ms();
       Hull hull = convex_hull(sites);
       const double t2 = now_ms();
-      std::vector<double> backend_ms, gpu_ms, h2h_ms, h2h_reused_ms, seam_share;
-      std::map<std::string, std::vector<double>> stage_ms, host_stage_ms, pipeline_stage_ms;
+      std::vector<double> backend_ms, gpu_ms, h2h_ms, h2h_reused_ms, h2h_host_prepare_ms, seam_share;
+      std::map<std::string, std::vector<double>> stage_ms, host_stage_ms, pipeline_stage_ms, pipeline_device_stage_ms;
       cuda::RunCounters counters;
       std::size_t deferred = 0, triangles = 0;
       std::string error;
@@ -134,7 +138,19 @@ int main(int argc, char** argv) {
             triangulator.triangulate(points, kept);
             const double p1 = now_ms();
             if (r > 0) h2h_reused_ms.push_back(p1 - p0);
+            for (const auto& s : kept.stats.device_stages)
+              if (r > 0) pipeline_device_stage_ms[s.name].push_back(s.ms);
           }
+          // The same with the sites prepared on the host (prepare_sites), as before the device
+          // did it: the comparison in one run.
+          setenv("EXPANSE_CUDA_PREPARE", "host", 1);
+          for (int r = 0; r <= reps; ++r) {
+            const double p0 = now_ms();
+            Mesh mesh = triangulator.triangulate(points);
+            const double p1 = now_ms();
+            if (r > 0) h2h_host_prepare_ms.push_back(p1 - p0);
+          }
+          unsetenv("EXPANSE_CUDA_PREPARE");
         }
       } catch (const Error& e) {
         error = std::string(to_string(e.code())) + ": " + e.what();
@@ -153,8 +169,9 @@ int main(int argc, char** argv) {
       std::printf("\"prepare_sites_ms\":%.3f,\"hull_ms\":%.3f,\"backend_ms\":%.3f,\"gpu_ms\":%.3f,", t1 - t0, t2 - t1,
                   median(backend_ms), median(gpu_ms));
       if (pipeline)
-        std::printf("\"host_to_host_ms\":%.3f,\"host_to_host_reused_ms\":%.3f,\"seam_share\":%.6g,", median(h2h_ms),
-                    median(h2h_reused_ms), median(seam_share));
+        std::printf("\"host_to_host_ms\":%.3f,\"host_to_host_reused_ms\":%.3f,\"host_to_host_host_prepare_ms\":%.3f,"
+                    "\"seam_share\":%.6g,",
+                    median(h2h_ms), median(h2h_reused_ms), median(h2h_host_prepare_ms), median(seam_share));
       std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,",
                   triangles, deferred, static_cast<unsigned long long>(counters.predicates),
                   static_cast<unsigned long long>(counters.bytes_to_device),
@@ -173,7 +190,10 @@ int main(int argc, char** argv) {
       };
       dump("device_stages_ms", stage_ms, true);
       dump("backend_host_stages_ms", host_stage_ms, pipeline);
-      if (pipeline) dump("pipeline_stages_ms", pipeline_stage_ms, false);
+      if (pipeline) {
+        dump("pipeline_stages_ms", pipeline_stage_ms, true);
+        dump("pipeline_device_stages_ms", pipeline_device_stage_ms, false);
+      }
       std::printf("}\n");
       std::fflush(stdout);
     }

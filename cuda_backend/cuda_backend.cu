@@ -1,6 +1,7 @@
 // The CUDA Backend: device selection, the one stream, pinned staging, stage timing, and the
 // dispatch to the per-site or block layout.
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <thread>
@@ -147,6 +148,20 @@ int device_count_or_throw() {
   return count;
 }
 
+}  // namespace
+
+void require_device_memory(std::size_t bytes, std::size_t count, const char* what) {
+  const std::size_t need = bytes + (std::size_t{64} << 20);
+  std::size_t free_bytes = 0, total_bytes = 0;
+  EXPANSE_CUDA(cudaMemGetInfo(&free_bytes, &total_bytes));
+  if (need > free_bytes)
+    throw Error(ErrorCode::too_large, "CUDA backend: " + std::to_string(count) + " " + what + " need about " +
+                                          std::to_string(need >> 20) + " MiB of device memory, " +
+                                          std::to_string(free_bytes >> 20) + " MiB free");
+}
+
+namespace {
+
 class CudaBackend final : public Backend {
  public:
   explicit CudaBackend(int device) {
@@ -211,6 +226,20 @@ class CudaBackend final : public Backend {
       grow_paper_blocks(ctx_, input, result);
     else
       grow_per_site(ctx_, input, result);
+    return result;
+  }
+
+  // EXPANSE_CUDA_PREPARE=host keeps the preparation on the host (for comparisons).
+  bool prepares_sites(const Layout& layout) const override {
+    const char* env = std::getenv("EXPANSE_CUDA_PREPARE");
+    return layout.seeding != Layout::Seeding::paper_blocks && !(env && std::strcmp(env, "host") == 0);
+  }
+
+  std::optional<InputGrowResult> grow_from_input(const InputGrowInput& input) override {
+    if (!prepares_sites(input.layout)) return std::nullopt;
+    EXPANSE_CUDA(cudaSetDevice(ctx_.device));
+    std::optional<InputGrowResult> result(std::in_place);
+    if (!grow_per_site_from_input(ctx_, input, *result)) return std::nullopt;
     return result;
   }
 

@@ -69,8 +69,25 @@ struct Context {
   unsigned int* pinned_words = nullptr;  ///< 16 pinned words for small asynchronous read-backs
 };
 
+/// Sites already on the device in the order of the host's SiteSet, and the hull in their ids
+/// (prepare_on_device): grow_per_site takes them instead of uploading input.sites.
+struct SitesOnDevice {
+  const double2* points = nullptr;
+  const int* hull = nullptr;
+};
+
 /// Per-site star layout (docs/algorithm.md, "GPU, per-site seeding").
-void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result);
+void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, const SitesOnDevice* on_device = nullptr);
+
+/// The per-site layout from raw input: the device scales, merges duplicates and orders the
+/// sites (prepare_on_device.cu), fills result.sites and result.hull as prepare_sites and
+/// convex_hull would, and grows. False, having consumed nothing, when it leaves the merge to the
+/// host (a cell crowded with points).
+bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGrowResult& result);
+
+/// Throws Error(too_large), naming `count` `what`, unless about `bytes` of device memory (and a
+/// margin) are free: fail early, with the right error, when a working set cannot fit.
+void require_device_memory(std::size_t bytes, std::size_t count, const char* what);
 /// The paper's block layout with halo (docs/algorithm.md, "GPU, the paper's layout").
 void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result);
 

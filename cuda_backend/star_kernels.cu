@@ -20,60 +20,12 @@
 
 #include "cuda_internal.hpp"
 #include "input/parallel.hpp"
+#include "bucket_kernels.cuh"
 #include "star_grid.hpp"
 #include "star_scan.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
-
-__global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::uint32_t* keys, int* ids) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const double2 p = points[i];
-  keys[i] = static_cast<std::uint32_t>(g.cell_y(p.y) * g.gx + g.cell_x(p.x));
-  ids[i] = i;
-}
-
-__global__ void gather_kernel(const int* sorted_ids, const double2* points, int n, double2* sorted_points, int* rank) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const int id = sorted_ids[i];
-  sorted_points[i] = points[id];
-  rank[id] = i;
-}
-
-__global__ void cell_start_kernel(const std::uint32_t* keys, int n, int cells, std::uint32_t* cell_start) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const int key = static_cast<int>(keys[i]);
-  const int prev = i == 0 ? -1 : static_cast<int>(keys[i - 1]);
-  for (int c = prev + 1; c <= key; ++c) cell_start[c] = static_cast<std::uint32_t>(i);
-  if (i == n - 1)
-    for (int c = key + 1; c <= cells; ++c) cell_start[c] = static_cast<std::uint32_t>(n);
-}
-
-__global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank, int* pred) {
-  const int t = blockIdx.x * blockDim.x + threadIdx.x;
-  if (t >= h) return;
-  pred[rank[hull[t]]] = rank[hull[t == 0 ? h - 1 : t - 1]];
-}
-
-/// Quantile grid: a pseudo-random sample of the coordinates (a hashed index, so that ordered
-/// inputs such as row-major grids do not alias).
-__global__ void sample_kernel(const double2* points, int n, int samples, double* xs, double* ys) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= samples) return;
-  const double2 p = points[quantile_sample_site(i, n, samples)];
-  xs[i] = p.x;
-  ys[i] = p.y;
-}
-
-/// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1.
-__global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
-  const int j = blockIdx.x * blockDim.x + threadIdx.x;
-  if (j > cells) return;
-  bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
-}
 
 /// Which pass of the star walks a site is in. Most sites finish within a small budget; the few
 /// that run past it (hull-hugging and sparse-region sites whose searches span long rows of
@@ -279,11 +231,17 @@ constexpr int kThreads = 256;
 /// 4096^2 it lost (gaussian 130 against 104, kuzmin 259 against 148; 2^9: 98 / 105 / 330 / 166
 /// against 100 / 104 / 330 / 148), session 5 call 4. Between the two sizes it is not measured.
 unsigned first_pass_budget(std::size_t sites) { return sites <= (std::size_t{1} << 18) ? 1u << 8 : 1u << 10; }
+/// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
+/// predecessor, owned, offset, retry; the star row; triangles and neighbours (about 2 a site).
+std::size_t per_site_bytes() {
+  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 5 * sizeof(int) + kStar * sizeof(int) +
+         2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
+}
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
 }  // namespace
 
-void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
+void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, const SitesOnDevice* on_device) {
   using clock = std::chrono::steady_clock;
   const cudaStream_t stream = ctx.stream;
   const auto& points = input.sites.points;
@@ -293,109 +251,62 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
 
   const GridShape shape = make_grid_shape(input.sites.bounds, n, input.layout.sites_per_bucket);
   const std::size_t cells = static_cast<std::size_t>(shape.gx) * shape.gy;
-  int key_bits = 1;
-  while ((std::size_t{1} << key_bits) < cells + 1) ++key_bits;
 
   // Fail early, with the right error, when the working set cannot fit.
-  {
-    const std::size_t per_site = 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 5 * sizeof(int) +
-                                 kStar * sizeof(int) + 2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
-    const std::size_t need = n * per_site + cells * sizeof(std::uint32_t) + (std::size_t{64} << 20);
-    std::size_t free_bytes = 0, total_bytes = 0;
-    EXPANSE_CUDA(cudaMemGetInfo(&free_bytes, &total_bytes));
-    if (need > free_bytes)
-      throw Error(ErrorCode::too_large, "CUDA backend: " + std::to_string(n) + " sites need about " +
-                                            std::to_string(need >> 20) + " MiB of device memory, " +
-                                            std::to_string(free_bytes >> 20) + " MiB free");
-  }
+  require_device_memory(n * per_site_bytes() + cells * sizeof(std::uint32_t), n, "sites");
 
   StageTimer timer(stream);
   const auto host_start = clock::now();
-  DeviceArray<double2> d_points(n, stream);
-  DeviceArray<int> d_hull(input.hull.sites.size(), stream);
-  timer.begin("upload");
-  static_assert(sizeof(Point2) == sizeof(double2));
-  ctx.staging->upload(d_points.get(), points.data(), n * sizeof(double2), stream);
-  ctx.staging->upload(d_hull.get(), input.hull.sites.data(), d_hull.bytes(), stream);
-  timer.end();
+  DeviceArray<double2> d_uploaded_points(on_device ? 0 : n, stream);
+  DeviceArray<int> d_uploaded_hull(on_device ? 0 : input.hull.sites.size(), stream);
+  const double2* d_points = on_device ? on_device->points : d_uploaded_points.get();
+  const int* d_hull = on_device ? on_device->hull : d_uploaded_hull.get();
+  if (!on_device) {
+    timer.begin("upload");
+    static_assert(sizeof(Point2) == sizeof(double2));
+    ctx.staging->upload(d_uploaded_points.get(), points.data(), n * sizeof(double2), stream);
+    ctx.staging->upload(d_uploaded_hull.get(), input.hull.sites.data(), d_uploaded_hull.bytes(), stream);
+    timer.end();
+  }
   const auto host_uploaded = clock::now();
 
-  DeviceArray<std::uint32_t> d_keys(n, stream), d_keys_sorted(n, stream);
-  DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream), d_rank(n, stream), d_pred(n, stream);
-  DeviceArray<double2> d_sorted(n, stream);
-  DeviceArray<std::uint32_t> d_cell_start(cells + 1, stream);
+  CellBuckets buckets(n, shape, stream);
+  DeviceArray<int> d_rank(n, stream), d_pred(n, stream);
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   DeviceArray<unsigned int> d_counters(8, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
+  const int* d_sorted_ids = buckets.sorted_ids.get();
 
-  // Grid kind: quantile boundaries (default; robust to clustering) or uniform cells.
-  // EXPANSE_CUDA_GRID=uniform selects the old grid (for comparisons); EXPANSE_CUDA_BUDGET sets the
-  // per-site work budget (cells + sites visited) past which a site defers to the seam stage.
-  const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
-  const bool quantile = !(grid_env && std::strcmp(grid_env, "uniform") == 0) && n >= 64;
+  // EXPANSE_CUDA_BUDGET sets the per-site work budget (cells + sites visited) past which a site
+  // defers to the seam stage.
   const char* budget_env = std::getenv("EXPANSE_CUDA_BUDGET");
   // EXPANSE_CUDA_SEARCH=rings selects the ring searches of star_walk.cuh (for comparisons).
   const char* search_env = std::getenv("EXPANSE_CUDA_SEARCH");
   const bool rings = search_env && std::strcmp(search_env, "rings") == 0;
   const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10))
                                      : default_budget(rings ? StarSearch::rings : StarSearch::boxes);
-  const int samples = quantile_sample_count(n);
-  DeviceArray<double> d_xb(quantile ? shape.gx + 1 : 0, stream), d_yb(quantile ? shape.gy + 1 : 0, stream);
-  DeviceArray<double> d_sx(quantile ? samples : 0, stream), d_sy(quantile ? samples : 0, stream);
-  DeviceArray<double> d_sx2(quantile ? samples : 0, stream), d_sy2(quantile ? samples : 0, stream);
 
-  std::size_t sort_bytes = 0, scan_bytes = 0;
-  EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
-                                               d_sorted_ids.get(), static_cast<int>(n), 0, key_bits, stream));
+  std::size_t scan_bytes = 0;
   EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(nullptr, scan_bytes, d_owned.get(), d_offset.get() + 1,
                                              static_cast<int>(n), stream));
-  std::size_t qsort_bytes = 0;
-  if (quantile)
-    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, qsort_bytes, d_sx.get(), d_sx2.get(), samples, 0, 64, stream));
-  DeviceArray<unsigned char> d_temp(std::max({sort_bytes, scan_bytes, qsort_bytes}), stream);
+  DeviceArray<unsigned char> d_temp(scan_bytes, stream);
 
   GridView g = make_grid_view(shape, input.sites.bounds);
 
   timer.begin("bucket");
-  if (quantile) {
-    sample_kernel<<<blocks_for(samples), kThreads, 0, stream>>>(d_points.get(), static_cast<int>(n), samples,
-                                                               d_sx.get(), d_sy.get());
-    EXPANSE_CUDA(cudaGetLastError());
-    std::size_t tb = d_temp.bytes();
-    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_temp.get(), tb, d_sx.get(), d_sx2.get(), samples, 0, 64, stream));
-    tb = d_temp.bytes();
-    EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(d_temp.get(), tb, d_sy.get(), d_sy2.get(), samples, 0, 64, stream));
-    quantile_kernel<<<blocks_for(shape.gx + 1), kThreads, 0, stream>>>(d_sx2.get(), samples, shape.gx, d_xb.get());
-    quantile_kernel<<<blocks_for(shape.gy + 1), kThreads, 0, stream>>>(d_sy2.get(), samples, shape.gy, d_yb.get());
-    EXPANSE_CUDA(cudaGetLastError());
-    g.xb = d_xb.get();
-    g.yb = d_yb.get();
-  }
-  cell_keys_kernel<<<blocks_for(n), kThreads, 0, stream>>>(g, d_points.get(), static_cast<int>(n), d_keys.get(), d_ids.get());
-  EXPANSE_CUDA(cudaGetLastError());
-  std::size_t temp_bytes = d_temp.bytes();
-  EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_keys.get(), d_keys_sorted.get(), d_ids.get(),
-                                               d_sorted_ids.get(), static_cast<int>(n), 0, key_bits, stream));
-  gather_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_points.get(), static_cast<int>(n),
-                                                       d_sorted.get(), d_rank.get());
-  EXPANSE_CUDA(cudaGetLastError());
-  cell_start_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_keys_sorted.get(), static_cast<int>(n),
-                                                           static_cast<int>(cells), d_cell_start.get());
-  EXPANSE_CUDA(cudaGetLastError());
+  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), stream);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
-        d_hull.get(), static_cast<int>(input.hull.sites.size()), d_rank.get(), d_pred.get());
+        d_hull, static_cast<int>(input.hull.sites.size()), d_rank.get(), d_pred.get());
     EXPANSE_CUDA(cudaGetLastError());
   }
   EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, d_counters.bytes(), stream));
   EXPANSE_CUDA(cudaMemsetAsync(d_offset.get(), 0, sizeof(int), stream));
   timer.end();
 
-  g.cell_start = d_cell_start.get();
-  g.points = d_sorted.get();
   timer.begin("stars");
   // EXPANSE_CUDA_BLOCKS_PER_SM (6 or 8) caps the star kernel's registers so that that many
   // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
@@ -439,7 +350,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   timer.end();
 
   timer.begin("scan");
-  temp_bytes = d_temp.bytes();
+  std::size_t temp_bytes = d_temp.bytes();
   EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(d_temp.get(), temp_bytes, d_owned.get(), d_offset.get() + 1,
                                              static_cast<int>(n), stream));
   timer.end();
@@ -470,7 +381,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   DeviceArray<int> d_triangles(3 * triangle_count, stream);
   DeviceArray<int> d_neighbors(with_neighbors ? 3 * triangle_count : 0, stream);
   timer.begin("emit");
-  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids.get(),
+  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids,
                                                       static_cast<int>(n), with_neighbors, d_triangles.get(),
                                                       d_neighbors.get());
   EXPANSE_CUDA(cudaGetLastError());
@@ -559,7 +470,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result) {
   std::uint64_t predicates = 0;
   std::memcpy(&predicates, &sizes[3], sizeof predicates);
   counters.predicates = predicates;
-  counters.bytes_to_device = n * sizeof(double2) + d_hull.bytes();
+  counters.bytes_to_device = on_device ? 0 : n * sizeof(double2) + d_uploaded_hull.bytes();
   counters.bytes_to_host = d_triangles.bytes() + d_neighbors.bytes() + 2 * sizeof(int);
   counters.triangles = triangle_count;
   counters.max_cells_per_site = sizes[5];

@@ -294,6 +294,18 @@ int main(int argc, char** argv) {
     unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
   }
 
+  {
+    // The pipeline with the device preparing the sites (prepare_on_device.cu): small enough for
+    // compute-sanitizer; duplicates merged, the crowded cell left to the host.
+    Options options;
+    options.backend = BackendKind::cuda;
+    full_pipeline_case("device preparation: uniform", generate_points("uniform", 2000, 12), options);
+    full_pipeline_case("device preparation: duplicates", generate_points("duplicates", 2000, 13), options);
+    std::vector<Point2> crowded = generate_points("uniform", 1000, 14);
+    crowded.insert(crowded.end(), 100, crowded[7]);
+    full_pipeline_case("device preparation: a crowded cell (host merges)", crowded, options);
+  }
+
   if (!small) {
     Options options;
     options.backend = BackendKind::cuda;

@@ -2,6 +2,8 @@
 // Where the front grows. A Backend hides only the device (memory, dispatch); the pipeline owns
 // input preparation, seam completion and output conventions.
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,26 @@ struct GrowResult {
   bool adjacency_audited = false;
 };
 
+/// The raw input, for a backend that validates nothing but sorts and merges duplicates on its
+/// device (Backend::grow_from_input).
+struct InputGrowInput {
+  std::span<const Point2> points;
+  const InputScan& scan;                 ///< scan_input(points): finite, scale, box
+  std::span<const std::int32_t> hull;    ///< the hull in input indices (convex_hull_of_input)
+  const Layout& layout;
+  PartialTriangulation* recycled = nullptr;  ///< as GrowInput::recycled
+};
+
+/// What grow_from_input makes besides the growth: the sites and the hull as prepare_sites and
+/// convex_hull would have made them for the rest of the pipeline (the sites in Morton order,
+/// duplicates merged to their smallest input index; the order within a run of equal Morton
+/// codes may differ).
+struct InputGrowResult {
+  GrowResult grown;
+  SiteSet sites;
+  Hull hull;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -43,6 +65,15 @@ class Backend {
   /// Grows the front as far as the device can decide exactly. Precondition: at least three
   /// sites, not all collinear.
   virtual GrowResult grow(const GrowInput& input) = 0;
+  /// Prepares the sites itself and grows: the whole of prepare_sites, convex_hull's site ids
+  /// and grow() in one. std::nullopt when it cannot (this layout, or input it leaves to the
+  /// host, such as a cell crowded with duplicates): nothing was consumed, input.recycled
+  /// included, and the caller prepares on the host and calls grow(). Precondition: the hull has
+  /// at least three sites, not all collinear.
+  virtual std::optional<InputGrowResult> grow_from_input(const InputGrowInput&) { return std::nullopt; }
+  /// Whether grow_from_input may take this layout (the pipeline then scans the input and finds
+  /// its hull for it, instead of preparing the sites).
+  virtual bool prepares_sites(const Layout&) const { return false; }
 };
 
 /// The CPU backend grows nothing itself: the seam stage, seeded with one seed, does it all.

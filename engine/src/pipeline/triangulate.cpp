@@ -1,6 +1,7 @@
 #include "expanse/triangulate.hpp"
 
 #include <chrono>
+#include <optional>
 
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
@@ -90,24 +91,55 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   stats.device = backend.device_name();
   stats.input_points = points.size();
 
-  detail::SiteSet sites = timed(stats, "prepare", [&] { return detail::prepare_sites(points); });
+  // The input is accepted once it is validated: from then on `mesh` is rewritten, the storage of
+  // its two large vectors handed to the backend to fill again (allocate_full_triangulation
+  // empties them). Emptied first, so that an error leaves no stale part.
+  detail::PartialTriangulation recycled;
+  bool accepted = false;
+  const auto accept = [&] {
+    if (accepted) return;
+    accepted = true;
+    recycled.triangles.swap(mesh.triangles);
+    recycled.neighbors.swap(mesh.neighbors);
+    mesh.hull.clear();
+    mesh.representative.clear();
+    mesh.stats = Stats{};
+  };
+
+  std::optional<detail::SiteSet> prepared;
+  std::optional<detail::Hull> prepared_hull;
+  std::optional<detail::GrowResult> grown_on_device;
+  if (points.size() >= 3 && backend.prepares_sites(options.layout)) {
+    // The device sorts and merges: the host validates, and finds the hull on the raw points
+    // (the device needs it before it starts).
+    const detail::InputScan scan = timed(stats, "prepare (scan)", [&] { return detail::scan_input(points); });
+    const detail::InputHull input_hull =
+        timed(stats, "hull (input)", [&] { return detail::convex_hull_of_input(points, scan); });
+    if (!input_hull.collinear && input_hull.sites.size() >= 3) {
+      accept();
+      std::optional<detail::InputGrowResult> made = timed(stats, "grow", [&] {
+        return backend.grow_from_input({points, scan, input_hull.sites, options.layout, &recycled});
+      });
+      if (made) {
+        prepared.emplace(std::move(made->sites));
+        prepared_hull.emplace(std::move(made->hull));
+        grown_on_device.emplace(std::move(made->grown));
+      }
+    }
+  }
+  if (!prepared) {
+    prepared.emplace(timed(stats, "prepare", [&] { return detail::prepare_sites(points); }));
+    prepared_hull.emplace(timed(stats, "hull", [&] { return detail::convex_hull(*prepared); }));
+  }
+  detail::SiteSet& sites = *prepared;
+  const detail::Hull& hull = *prepared_hull;
   stats.sites = sites.points.size();
   stats.duplicates = stats.input_points - stats.sites;
-  const detail::Hull hull = timed(stats, "hull", [&] { return detail::convex_hull(sites); });
   stats.hull_sites = hull.sites.size();
-
-  // The input is accepted: from here on `mesh` is rewritten, the storage of its two large
-  // vectors handed to the backend to fill again (allocate_full_triangulation empties them).
-  // Emptied first, so that an error leaves no stale part.
-  detail::PartialTriangulation recycled;
-  recycled.triangles.swap(mesh.triangles);
-  recycled.neighbors.swap(mesh.neighbors);
-  mesh.hull.clear();
-  mesh.representative.clear();
-  mesh.stats = Stats{};
+  accept();
 
   if (sites.size() >= 3 && !hull.collinear) {
-    detail::GrowResult grown = timed(stats, "grow", [&] {
+    detail::GrowResult grown = grown_on_device ? std::move(*grown_on_device) : timed(stats, "grow", [&] {
       return backend.grow({sites, hull, options.layout, &recycled});
     });
     for (auto& stage : grown.host_stages) stats.stages.push_back(std::move(stage));

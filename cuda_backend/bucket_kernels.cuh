@@ -1,0 +1,170 @@
+#pragma once
+// Kernels that bucket sites by cell of the per-site layout's grid, shared by the star layout
+// (star_kernels.cu) and the device's own preparation of raw input (prepare_on_device.cu).
+#include <cub/device/device_radix_sort.cuh>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+
+#include "cuda_internal.hpp"
+#include "device_geometry.cuh"
+#include "star_grid.hpp"
+
+namespace expanse::detail::cuda {
+namespace {
+
+__global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::uint32_t* keys, int* ids) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const double2 p = points[i];
+  keys[i] = static_cast<std::uint32_t>(g.cell_y(p.y) * g.gx + g.cell_x(p.x));
+  ids[i] = i;
+}
+
+/// sorted_points[i] = points[sorted_ids[i]]; rank (optional) the inverse permutation.
+__global__ void gather_kernel(const int* sorted_ids, const double2* points, int n, double2* sorted_points, int* rank) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const int id = sorted_ids[i];
+  sorted_points[i] = points[id];
+  if (rank) rank[id] = i;
+}
+
+__global__ void cell_start_kernel(const std::uint32_t* keys, int n, int cells, std::uint32_t* cell_start) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const int key = static_cast<int>(keys[i]);
+  const int prev = i == 0 ? -1 : static_cast<int>(keys[i - 1]);
+  for (int c = prev + 1; c <= key; ++c) cell_start[c] = static_cast<std::uint32_t>(i);
+  if (i == n - 1)
+    for (int c = key + 1; c <= cells; ++c) cell_start[c] = static_cast<std::uint32_t>(n);
+}
+
+__global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank, int* pred) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= h) return;
+  pred[rank[hull[t]]] = rank[hull[t == 0 ? h - 1 : t - 1]];
+}
+
+/// Quantile grid: a pseudo-random sample of the coordinates (a hashed index, so that ordered
+/// inputs such as row-major grids do not alias).
+__global__ void sample_kernel(const double2* points, int n, int samples, double* xs, double* ys) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= samples) return;
+  const double2 p = points[quantile_sample_site(i, n, samples)];
+  xs[i] = p.x;
+  ys[i] = p.y;
+}
+
+/// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1.
+__global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j > cells) return;
+  bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
+}
+
+constexpr int kBucketThreads = 256;
+inline int bucket_blocks(std::size_t n) { return static_cast<int>((n + kBucketThreads - 1) / kBucketThreads); }
+
+/// Points bucketed by cell: the grid's boundaries (quantile, from a sample of the points; or
+/// uniform cells), every point's cell key, the points sorted by cell stably (within a cell, in
+/// the order they came), and each cell's first position. Device memory for up to `capacity`
+/// points, from the stream's pool.
+class CellBuckets {
+ public:
+  CellBuckets(std::size_t capacity, const GridShape& shape, cudaStream_t stream)
+      : shape_(shape),
+        cells_(static_cast<std::size_t>(shape.gx) * shape.gy),
+        // EXPANSE_CUDA_GRID=uniform selects uniform cells (for comparisons).
+        quantile_(!uniform_grid_asked() && capacity >= 64),
+        samples_(quantile_sample_count(capacity)),
+        keys(capacity, stream),
+        keys_sorted(capacity, stream),
+        ids(capacity, stream),
+        sorted_ids(capacity, stream),
+        sorted(capacity, stream),
+        cell_start(cells_ + 1, stream),
+        xb_(quantile_ ? shape.gx + 1 : 0, stream),
+        yb_(quantile_ ? shape.gy + 1 : 0, stream),
+        sx_(quantile_ ? samples_ : 0, stream),
+        sy_(quantile_ ? samples_ : 0, stream),
+        sx2_(quantile_ ? samples_ : 0, stream),
+        sy2_(quantile_ ? samples_ : 0, stream),
+        temp_(temp_bytes(capacity, stream), stream) {
+    while ((std::size_t{1} << key_bits_) < cells_ + 1) ++key_bits_;
+  }
+
+  std::size_t cells() const { return cells_; }
+  int key_bits() const { return key_bits_; }
+
+  /// Buckets points[0, n) (n <= capacity): sets g's boundaries (g.xb, g.yb, quantile kind) and
+  /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
+  void build(GridView& g, const double2* points, int n, int* rank, cudaStream_t stream) {
+    if (quantile_) {
+      const int samples = quantile_sample_count(static_cast<std::size_t>(n));
+      sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      std::size_t bytes = temp_.bytes();
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
+      bytes = temp_.bytes();
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
+      quantile_kernel<<<bucket_blocks(shape_.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, shape_.gx,
+                                                                                   xb_.get());
+      quantile_kernel<<<bucket_blocks(shape_.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, shape_.gy,
+                                                                                   yb_.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      g.xb = xb_.get();
+      g.yb = yb_.get();
+    }
+    cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    std::size_t bytes = temp_.bytes();
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(temp_.get(), bytes, keys.get(), keys_sorted.get(), ids.get(),
+                                                 sorted_ids.get(), n, 0, key_bits_, stream));
+    gather_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(sorted_ids.get(), points, n, sorted.get(), rank);
+    EXPANSE_CUDA(cudaGetLastError());
+    cell_start_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(keys_sorted.get(), n, static_cast<int>(cells_),
+                                                                       cell_start.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    g.cell_start = cell_start.get();
+    g.points = sorted.get();
+  }
+
+ private:
+  static bool uniform_grid_asked() {
+    const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
+    return grid_env && std::strcmp(grid_env, "uniform") == 0;
+  }
+  std::size_t temp_bytes(std::size_t capacity, cudaStream_t stream) const {
+    std::size_t sort_bytes = 0, sample_bytes = 0;
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, static_cast<std::uint32_t*>(nullptr),
+                                                 static_cast<std::uint32_t*>(nullptr), static_cast<int*>(nullptr),
+                                                 static_cast<int*>(nullptr), static_cast<int>(capacity), 0, 32,
+                                                 stream));
+    if (quantile_)
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(nullptr, sample_bytes, static_cast<double*>(nullptr),
+                                                  static_cast<double*>(nullptr), samples_, 0, 64, stream));
+    return std::max(sort_bytes, sample_bytes);
+  }
+
+  GridShape shape_;
+  std::size_t cells_;
+  bool quantile_;
+  int samples_;
+  int key_bits_ = 1;
+
+ public:
+  DeviceArray<std::uint32_t> keys, keys_sorted;
+  DeviceArray<int> ids, sorted_ids;  ///< sorted_ids[position] = the point's index in `points`
+  DeviceArray<double2> sorted;
+  DeviceArray<std::uint32_t> cell_start;
+
+ private:
+  DeviceArray<double> xb_, yb_, sx_, sy_, sx2_, sy2_;
+  DeviceArray<unsigned char> temp_;
+};
+
+}  // namespace
+}  // namespace expanse::detail::cuda

@@ -1,0 +1,108 @@
+// Where the input is prepared: a backend may sort and merge the raw points on its device
+// (Backend::grow_from_input; the CUDA backend does) instead of the host's prepare_sites. Both
+// must give CGAL's mesh, and the device must take the inputs it is meant to take.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "conformance.hpp"
+#include "expanse/triangulate.hpp"
+#include "support/test_points.hpp"
+
+using namespace expanse;
+using namespace expanse::conformance;
+
+namespace {
+
+bool has_stage(const Mesh& mesh, const std::string& name) {
+  return std::any_of(mesh.stats.stages.begin(), mesh.stats.stages.end(),
+                     [&](const StageTime& s) { return s.name == name; });
+}
+
+/// Sets EXPANSE_CUDA_PREPARE=host for its lifetime.
+struct HostPreparation {
+  HostPreparation() { setenv("EXPANSE_CUDA_PREPARE", "host", 1); }
+  ~HostPreparation() { unsetenv("EXPANSE_CUDA_PREPARE"); }
+};
+
+std::vector<Point2> crowded_copies(std::size_t n, std::uint64_t seed) {
+  // Uniform points, and 300 copies of one of them (interleaved): one cell holds them all.
+  std::vector<Point2> points = test::points::uniform(n, seed);
+  const Point2 repeated = points[n / 2];
+  for (std::size_t k = 0; k < 300; ++k) points.insert(points.begin() + static_cast<std::ptrdiff_t>(k * (n / 300)), repeated);
+  return points;
+}
+
+std::vector<Point2> subnormal(std::size_t n, std::uint64_t seed) {
+  // Uniform points times 2^-1060, below the smallest normal double: scaling them into [0.5, 1)
+  // takes more than 2^1023 (ldexp on the host, scalbn on a device).
+  std::vector<Point2> points = test::points::uniform(n, seed);
+  for (Point2& p : points) p = {std::ldexp(p.x, -1060), std::ldexp(p.y, -1060)};
+  return points;
+}
+
+std::vector<Point2> copied_hull(std::size_t n, std::uint64_t seed) {
+  // Integer points in a square with its boundary filled in, every boundary point repeated
+  // three times after the first: the hull's collinear sites each name their first copy.
+  std::vector<Point2> points = test::points::square_boundary(n / 2, seed);
+  const std::size_t boundary = points.size();
+  const std::vector<Point2> inside = test::points::uniform(n / 2, seed + 1);
+  double extent = 0.0;
+  for (const Point2& p : points) extent = std::max({extent, p.x, p.y});
+  for (const Point2& p : inside) points.push_back({1.0 + p.x * (extent - 2.0), 1.0 + p.y * (extent - 2.0)});
+  for (int copy = 0; copy < 3; ++copy)
+    for (std::size_t k = 0; k < boundary; ++k) points.push_back(points[k]);
+  return points;
+}
+
+}  // namespace
+
+TEST_CASE("prepared on the device or on the host: the same mesh, CGAL's", "[prepare]") {
+  struct Case {
+    const char* name;
+    std::vector<Point2> points;
+    bool device_prepares;  // on the CUDA backend: whether the device takes this input
+  };
+  const std::vector<Case> cases = {
+      {"uniform", test::points::uniform(30000, 1), true},
+      {"duplicates", test::points::duplicates(20000, 2), true},
+      {"kuzmin", test::points::kuzmin(30000, 3), true},
+      {"grid with duplicates", test::points::grid_with_duplicates(20000, 4), true},
+      {"tiny", test::points::tiny(5000, 5), true},
+      {"huge", test::points::huge(5000, 6), true},
+      {"tiny grid", test::points::tiny_grid(4000, 7), true},
+      {"mixed scale", test::points::mixed_scale(3000, 8), true},
+      {"subnormal", subnormal(3000, 11), true},
+      {"copied hull", copied_hull(4000, 9), true},
+      {"crowded copies", crowded_copies(20000, 10), false},
+      {"three points", {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}, true},
+  };
+  Triangulator triangulator(options());
+  const bool cuda = backend_under_test() == BackendKind::cuda;
+  for (const Case& c : cases) {
+    INFO(c.name << ": " << c.points.size() << " points");
+    const Mesh mesh = triangulator.triangulate(c.points);
+    CHECK(differences_from_cgal(c.points, mesh, options()) == "");
+    Mesh on_host;
+    {
+      const HostPreparation host;
+      on_host = triangulator.triangulate(c.points);
+    }
+    CHECK(differences_from_cgal(c.points, on_host, options()) == "");
+    CHECK(mesh.hull == on_host.hull);
+    CHECK(mesh.representative == on_host.representative);
+    CHECK(mesh.stats.sites == on_host.stats.sites);
+    CHECK_FALSE(has_stage(on_host, "prepare (scan)"));
+    if (cuda) {
+      // The device prepared it (the host only scanned), or it declined and the host did.
+      CHECK(has_stage(mesh, "prepare (scan)"));
+      CHECK(has_stage(mesh, "prepare") == !c.device_prepares);
+    } else {
+      CHECK_FALSE(has_stage(mesh, "prepare (scan)"));
+    }
+  }
+}
