@@ -1,6 +1,6 @@
 #pragma once
-// Kernels that bucket sites by cell of the per-site layout's grid, shared by the star layout
-// (star_kernels.cu) and the device's own preparation of raw input (prepare_on_device.cu).
+// Kernels that bucket sites by cell of the per-site layout's grid (star_kernels.cu): the grid's
+// quantile boundaries from a sample, a stable sort by cell, each cell's first position.
 #include <cub/device/device_radix_sort.cuh>
 
 #include <algorithm>

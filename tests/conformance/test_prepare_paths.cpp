@@ -30,7 +30,7 @@ struct HostPreparation {
 };
 
 std::vector<Point2> crowded_copies(std::size_t n, std::uint64_t seed) {
-  // Uniform points, and 300 copies of one of them (interleaved): one cell holds them all.
+  // Uniform points, and 300 copies of one of them (interleaved): one run of equal codes.
   std::vector<Point2> points = test::points::uniform(n, seed);
   const Point2 repeated = points[n / 2];
   for (std::size_t k = 0; k < 300; ++k) points.insert(points.begin() + static_cast<std::ptrdiff_t>(k * (n / 300)), repeated);
@@ -75,7 +75,10 @@ TEST_CASE("prepared on the device or on the host: the same mesh, CGAL's", "[prep
       {"tiny", test::points::tiny(5000, 5), true},
       {"huge", test::points::huge(5000, 6), true},
       {"tiny grid", test::points::tiny_grid(4000, 7), true},
-      {"mixed scale", test::points::mixed_scale(3000, 8), true},
+      // A cluster 1e-400 of the box wide: all of it one Morton code, which the device leaves
+      // to the host. (Kept small: every predicate among its points underflows to the exact
+      // path, and the seam stage takes minutes at 3000 points.)
+      {"mixed scale", test::points::mixed_scale(300, 8), false},
       {"subnormal", subnormal(3000, 11), true},
       {"copied hull", copied_hull(4000, 9), true},
       {"crowded copies", crowded_copies(20000, 10), false},
