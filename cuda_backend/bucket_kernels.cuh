@@ -65,6 +65,12 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, do
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
 }
 
+/// table[k] = QuantileGuide::entry(..., k), k = 0 .. bins.
+__global__ void guide_kernel(const double* bounds, int cells, int bins, double origin, double extent, int* table) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k <= bins) table[k] = QuantileGuide::entry(bounds, cells, bins, origin, extent, k);
+}
+
 constexpr int kBucketThreads = 256;
 inline int bucket_blocks(std::size_t n) { return static_cast<int>((n + kBucketThreads - 1) / kBucketThreads); }
 
@@ -88,6 +94,8 @@ class CellBuckets {
         cell_start(cells_ + 1, stream),
         xb_(quantile_ ? shape.gx + 1 : 0, stream),
         yb_(quantile_ ? shape.gy + 1 : 0, stream),
+        x_guide_(quantile_ ? QuantileGuide::bins_for(shape.gx) + 1 : 0, stream),
+        y_guide_(quantile_ ? QuantileGuide::bins_for(shape.gy) + 1 : 0, stream),
         sx_(quantile_ ? samples_ : 0, stream),
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
@@ -117,6 +125,14 @@ class CellBuckets {
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();
       g.yb = yb_.get();
+      const int x_bins = QuantileGuide::bins_for(shape_.gx), y_bins = QuantileGuide::bins_for(shape_.gy);
+      guide_kernel<<<bucket_blocks(x_bins + 1), kBucketThreads, 0, stream>>>(xb_.get(), shape_.gx, x_bins, g.min_x,
+                                                                            g.max_x - g.min_x, x_guide_.get());
+      guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), shape_.gy, y_bins, g.min_y,
+                                                                            g.max_y - g.min_y, y_guide_.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      g.x_guide = make_quantile_guide(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
+      g.y_guide = make_quantile_guide(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
     }
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());
     EXPANSE_CUDA(cudaGetLastError());
@@ -162,7 +178,9 @@ class CellBuckets {
   DeviceArray<std::uint32_t> cell_start;
 
  private:
-  DeviceArray<double> xb_, yb_, sx_, sy_, sx2_, sy2_;
+  DeviceArray<double> xb_, yb_;
+  DeviceArray<int> x_guide_, y_guide_;
+  DeviceArray<double> sx_, sy_, sx2_, sy2_;
   DeviceArray<unsigned char> temp_;
 };
 

@@ -62,6 +62,10 @@ struct Context {
   int device = 0;
   cudaStream_t stream = nullptr;
   bool own_stream = false;
+  /// The backend's second stream, for copies to the host that no device work waits for (the
+  /// prepared sites, while the stars grow); null when the caller lent `stream`, whose work then
+  /// all stays on it.
+  cudaStream_t side_stream = nullptr;
   std::string name;
   std::size_t total_memory = 0;
   int multiprocessors = 1;
@@ -81,8 +85,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
 
 /// The per-site layout from raw input: the device scales, merges duplicates and orders the
 /// sites (prepare_on_device.cu), fills result.sites and result.hull as prepare_sites and
-/// convex_hull would, and grows. False, having consumed nothing, when it leaves the merge to the
-/// host (a cell crowded with points).
+/// convex_hull would, and grows. False, having consumed nothing, for 2^30 points or more (the
+/// host's path refuses them with its error).
 bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGrowResult& result);
 
 /// Throws Error(too_large), naming `count` `what`, unless about `bytes` of device memory (and a

@@ -11,12 +11,15 @@
 // On the host this took 125-170 ms at 4096^2 on 16 threads (session 5, the H100's host): the
 // sorting and merging is the device's to do, and the host only validates and finds the hull.
 // Equal points have equal codes, so merging looks only through runs of equal codes (30 bits a
-// coordinate: distinct points share one only when closer than 2^-30 of the box). A run longer
-// than kMergeRunLimit (many copies of few points) is left to the host (grow_from_input
-// declines). Merging by cells of the star grid instead declined kuzmin inputs: a quantile
-// grid's central cell holds far more than its share of a radial cluster.
+// coordinate: distinct points share one only when closer than 2^-30 of the box). Where a run is
+// longer than kMergeRunLimit (many copies of few points, or a cluster finer than the
+// quantisation: kuzmin's centre at 2048^2 and up), the points are sorted again by (code, x, y)
+// so that equal points are neighbours. The session-6 version merged by cells of the star grid
+// and left crowded cells to the host: a quantile grid's central cell holds far more than its
+// share of a radial cluster, so kuzmin inputs went back to the host's preparation.
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
+#include <cuda/functional>
 
 #include <chrono>
 #include <cmath>
@@ -54,8 +57,7 @@ __global__ void scale_kernel(double2* points, int n, int e, double factor) {
 /// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
 /// (p itself if none); head[p] = 1 where that is p. Equal points have equal codes, and within a
 /// run the positions are in input order (the sort is stable), so the first is the smallest input
-/// index. flags[0] is set when a run is longer than kMergeRunLimit (many copies of few points,
-/// or points closer than the quantisation): the host merges those.
+/// index. flags[0] is set when a run is longer than kMergeRunLimit (results then void).
 __global__ void first_equal_kernel(const double2* sorted, const std::uint64_t* codes, int n, int* first, int* head,
                                    unsigned int* flags) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
@@ -119,12 +121,15 @@ __device__ __forceinline__ std::uint64_t spread_bits(std::uint32_t v) {
   return x;
 }
 
-/// Point i's Morton code, as morton_code(quantiser.x(p.x), quantiser.y(p.y)).
+/// p's Morton code, as morton_code(quantiser.x(p.x), quantiser.y(p.y)).
+__device__ __forceinline__ std::uint64_t morton(double2 p, QuantiserView q) {
+  return spread_bits(quantise(p.x, q.origin_x, q.scale)) | (spread_bits(quantise(p.y, q.origin_y, q.scale)) << 1);
+}
+
 __global__ void morton_kernel(const double2* points, int n, QuantiserView q, std::uint64_t* codes, int* ids) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  const double2 p = points[i];
-  codes[i] = spread_bits(quantise(p.x, q.origin_x, q.scale)) | (spread_bits(quantise(p.y, q.origin_y, q.scale)) << 1);
+  codes[i] = morton(points[i], q);
   ids[i] = i;
 }
 
@@ -132,6 +137,43 @@ __global__ void morton_kernel(const double2* points, int n, QuantiserView q, std
 __global__ void gather_kernel(const int* ids, const double2* points, int n, double2* sorted) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k < n) sorted[k] = points[ids[k]];
+}
+
+/// A long run's order: points sorted by (Morton code, x, y), stably, so that equal points are
+/// neighbours in input order. key_kernel writes the key of pass `key` (0: y, 1: x, 2: the code)
+/// for the points in the order `ids`; coordinates map to integers in their order, -0 as +0
+/// (the two are equal points).
+__device__ __forceinline__ std::uint64_t ordered_bits(double v) {
+  const std::uint64_t bits = __double_as_longlong(v == 0.0 ? 0.0 : v);
+  return (bits >> 63) ? ~bits : bits | (std::uint64_t{1} << 63);
+}
+
+__global__ void iota_kernel(int* ids, int n) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k < n) ids[k] = k;
+}
+
+__global__ void key_kernel(const double2* points, const int* ids, int n, int key, QuantiserView q,
+                           std::uint64_t* keys) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  const double2 p = points[ids[k]];
+  keys[k] = key == 0 ? ordered_bits(p.y) : key == 1 ? ordered_bits(p.x) : morton(p, q);
+}
+
+/// In that order: first[p] is the first position of p's group of equal points (a max-scan of
+/// the positions where a group starts, which head marks).
+__global__ void group_start_kernel(const double2* sorted, int n, int* head, int* start) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p >= n) return;
+  const double2 v = sorted[p];
+  bool starts = true;
+  if (p > 0) {
+    const double2 w = sorted[p - 1];
+    starts = !(w.x == v.x && w.y == v.y);
+  }
+  head[p] = starts;
+  start[p] = starts ? p : 0;
 }
 
 /// The hull's input indices (representatives) -> site ids.
@@ -217,6 +259,42 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                                                                static_cast<int>(n), d_first.get(), d_head.get(),
                                                                d_flags.get());
     EXPANSE_CUDA(cudaGetLastError());
+    unsigned int* const words = ctx.pinned_words;
+    EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+    EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    if (words[0] != 0) {
+      // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
+      // finer than the quantisation): sort by (code, x, y), stably, and group equal neighbours.
+      const QuantiserView q{quantiser.origin_x, quantiser.origin_y, quantiser.scale};
+      std::size_t full_sort_bytes = 0, max_scan_bytes = 0;
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, full_sort_bytes, d_codes.get(), d_codes_sorted.get(),
+                                                   d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0, 64,
+                                                   stream));
+      EXPANSE_CUDA(cub::DeviceScan::InclusiveScan(nullptr, max_scan_bytes, d_slot.get(), d_first.get(),
+                                                  ::cuda::maximum<>{}, static_cast<int>(n), stream));
+      DeviceArray<unsigned char> d_full_temp(std::max(full_sort_bytes, max_scan_bytes), stream);
+      iota_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), static_cast<int>(n));
+      for (const int key : {0, 1, 2}) {  // least significant first
+        key_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), d_sorted_ids.get(), static_cast<int>(n), key,
+                                                            q, d_codes.get());
+        EXPANSE_CUDA(cudaGetLastError());
+        EXPANSE_CUDA(cudaMemcpyAsync(d_ids.get(), d_sorted_ids.get(), n * sizeof(int), cudaMemcpyDeviceToDevice,
+                                     stream));
+        temp_bytes = d_full_temp.bytes();
+        EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_full_temp.get(), temp_bytes, d_codes.get(),
+                                                     d_codes_sorted.get(), d_ids.get(), d_sorted_ids.get(),
+                                                     static_cast<int>(n), 0, key == 2 ? 2 * Quantiser::bits : 64,
+                                                     stream));
+      }
+      gather_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), static_cast<int>(n),
+                                                            d_sorted.get());
+      group_start_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), d_head.get(),
+                                                                 d_slot.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      temp_bytes = d_full_temp.bytes();
+      EXPANSE_CUDA(cub::DeviceScan::InclusiveScan(d_full_temp.get(), temp_bytes, d_slot.get(), d_first.get(),
+                                                  ::cuda::maximum<>{}, static_cast<int>(n), stream));
+    }
     temp_bytes = d_temp.bytes();
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(d_temp.get(), temp_bytes, d_head.get(), d_slot.get(),
                                                static_cast<int>(n), stream));
@@ -228,51 +306,59 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(d_hull_input.get(), static_cast<int>(h),
                                                               d_rank_input.get(), d_hull_sites.get());
     EXPANSE_CUDA(cudaGetLastError());
-    // Whether a run was too long, and how many sites (the last slot plus the last head).
-    unsigned int* const words = ctx.pinned_words;
-    EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+    // How many sites: the last slot plus the last head.
     EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_slot.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
     EXPANSE_CUDA(cudaMemcpyAsync(&words[2], d_head.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
     timer.end();
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
-    if (words[0] != 0) return false;  // a long run of equal codes: the host merges
     m = static_cast<std::size_t>(words[1]) + words[2];
   }
 
-  // The host's copy of what it prepared: the seam stage and the output need the sites, the
-  // input indices and the representatives; the hull in site ids.
+  // The host's copies of what the device prepared (the seam stage and the output read the sites,
+  // their input indices and the representatives; grow_per_site only their number) cross the
+  // bus on the side stream while the stars grow. Directly into pageable memory: the staging
+  // ring's host copies would compete with the output allocation for the host's threads.
   sites.scale_exponent = input.scan.scale_exponent;
   sites.bounds = bounds;
   resize_for_parallel_write(sites.points, m);
   resize_for_parallel_write(sites.input_index, m);
   Hull& hull = result.hull;
   hull.sites.resize(h);
-  timer.begin("download sites");
-  ctx.staging->download(sites.points.data(), d_site_points.get(), m * sizeof(double2), stream);
-  ctx.staging->download(sites.input_index.data(), d_site_input.get(), m * sizeof(int), stream);
-  ctx.staging->download(hull.sites.data(), d_hull_sites.get(), h * sizeof(int), stream);
-  identity.get();
-  if (m < n) ctx.staging->download(sites.representative.data(), d_representative.get(), n * sizeof(int), stream);
-  timer.end();
-  const auto host_downloaded = clock::now();
-  resize_for_parallel_write(hull.predecessor, m);
-  parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
-    std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
-              hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);
+  double host_copies_ms = 0.0;
+  auto host_copies = std::async(std::launch::async, [&] {
+    const auto start = clock::now();
+    EXPANSE_CUDA(cudaSetDevice(ctx.device));
+    const cudaStream_t side = ctx.side_stream ? ctx.side_stream : stream;
+    EXPANSE_CUDA(cudaMemcpyAsync(hull.sites.data(), d_hull_sites.get(), h * sizeof(int), cudaMemcpyDeviceToHost, side));
+    EXPANSE_CUDA(cudaMemcpyAsync(sites.points.data(), d_site_points.get(), m * sizeof(double2), cudaMemcpyDeviceToHost,
+                                 side));
+    EXPANSE_CUDA(cudaMemcpyAsync(sites.input_index.data(), d_site_input.get(), m * sizeof(int),
+                                 cudaMemcpyDeviceToHost, side));
+    identity.get();
+    if (m < n)
+      EXPANSE_CUDA(cudaMemcpyAsync(sites.representative.data(), d_representative.get(), n * sizeof(int),
+                                   cudaMemcpyDeviceToHost, side));
+    EXPANSE_CUDA(cudaStreamSynchronize(side));
+    resize_for_parallel_write(hull.predecessor, m);
+    std::fill(hull.predecessor.begin(), hull.predecessor.end(), -1);
+    for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
+    host_copies_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
   });
-  for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
   const auto host_prepared = clock::now();
 
   std::vector<StageTime> prepare_stages = timer.collect();
   const SitesOnDevice on_device{d_site_points.get(), d_hull_sites.get()};
   grow_per_site(ctx, GrowInput{sites, hull, input.layout, input.recycled}, result.grown, &on_device);
+  const auto host_grown = clock::now();
+  host_copies.get();
   auto& stages = result.grown.device_stages;
   stages.insert(stages.begin(), prepare_stages.begin(), prepare_stages.end());
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   auto& host = result.grown.host_stages;
   host.insert(host.begin(), {{"cuda upload of the input (host)", ms(host_start, host_uploaded)},
-                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_downloaded)},
-                             {"cuda host copy of the sites and hull", ms(host_downloaded, host_prepared)}});
+                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_prepared)}});
+  host.push_back({"cuda copies of the sites to the host (side stream, while the stars grow)", host_copies_ms});
+  host.push_back({"cuda wait for those copies after the growth", ms(host_grown, clock::now())});
   last_run_counters().bytes_to_device = n * sizeof(double2) + h * sizeof(int);
   last_run_counters().bytes_to_host +=
       m * (sizeof(double2) + sizeof(int)) + h * sizeof(int) + (m < n ? n * sizeof(int) : 0);

@@ -76,4 +76,16 @@ EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, 
   return sorted[k < samples ? k : samples - 1];
 }
 
+/// The guide over [lo, hi] for a table of QuantileGuide::bins_for(cells) + 1 entries filled by
+/// QuantileGuide::entry; none (a plain binary search) for an axis without extent.
+inline QuantileGuide make_quantile_guide(const int* table, int cells, double lo, double hi) {
+  QuantileGuide guide;
+  if (!(hi > lo) || table == nullptr) return guide;
+  guide.first = table;
+  guide.bins = QuantileGuide::bins_for(cells);
+  guide.origin = lo;
+  guide.scale = guide.bins / (hi - lo);
+  return guide;
+}
+
 }  // namespace expanse::detail::cuda

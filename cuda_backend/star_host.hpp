@@ -63,6 +63,8 @@ class HostStarLayout {
       for (int j = 1; j < shape.gy; ++j) yb_[j] = quantile_boundary(ys.data(), samples, shape.gy, j);
       grid_.xb = xb_.data();
       grid_.yb = yb_.data();
+      fill_guide(xb_, shape.gx, grid_.min_x, grid_.max_x, x_guide_, grid_.x_guide);
+      fill_guide(yb_, shape.gy, grid_.min_y, grid_.max_y, y_guide_, grid_.y_guide);
     }
     std::vector<std::uint32_t> keys(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -178,11 +180,20 @@ class HostStarLayout {
   }
 
  private:
+  static void fill_guide(const std::vector<double>& bounds, int cells, double lo, double hi, std::vector<int>& table,
+                         QuantileGuide& guide) {
+    const int bins = QuantileGuide::bins_for(cells);
+    table.resize(bins + 1);
+    for (int k = 0; k <= bins; ++k) table[k] = QuantileGuide::entry(bounds.data(), cells, bins, lo, hi - lo, k);
+    guide = make_quantile_guide(table.data(), cells, lo, hi);
+  }
+
   GridView grid_{};
   std::vector<double2> points_;
   std::vector<int> to_site_;
   std::vector<std::uint32_t> cell_start_;
   std::vector<double> xb_, yb_;
+  std::vector<int> x_guide_, y_guide_;
   std::vector<int> pred_;
   std::vector<int> star_;
   std::vector<std::uint32_t> info_;

@@ -296,14 +296,14 @@ int main(int argc, char** argv) {
 
   {
     // The pipeline with the device preparing the sites (prepare_on_device.cu): small enough for
-    // compute-sanitizer; duplicates merged, the crowded cell left to the host.
+    // compute-sanitizer; duplicates merged, a long run of copies sorted again by coordinates.
     Options options;
     options.backend = BackendKind::cuda;
     full_pipeline_case("device preparation: uniform", generate_points("uniform", 2000, 12), options);
     full_pipeline_case("device preparation: duplicates", generate_points("duplicates", 2000, 13), options);
     std::vector<Point2> crowded = generate_points("uniform", 1000, 14);
     crowded.insert(crowded.end(), 100, crowded[7]);
-    full_pipeline_case("device preparation: a crowded cell (host merges)", crowded, options);
+    full_pipeline_case("device preparation: 101 copies of one point", crowded, options);
   }
 
   if (!small) {

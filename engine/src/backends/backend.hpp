@@ -67,7 +67,7 @@ class Backend {
   virtual GrowResult grow(const GrowInput& input) = 0;
   /// Prepares the sites itself and grows: the whole of prepare_sites, convex_hull's site ids
   /// and grow() in one. std::nullopt when it cannot (this layout, or input it leaves to the
-  /// host, such as a cell crowded with duplicates): nothing was consumed, input.recycled
+  /// host): nothing was consumed, input.recycled
   /// included, and the caller prepares on the host and calls grow(). Precondition: the hull has
   /// at least three sites, not all collinear.
   virtual std::optional<InputGrowResult> grow_from_input(const InputGrowInput&) { return std::nullopt; }
