@@ -131,8 +131,8 @@ class CellBuckets {
       guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), shape_.gy, y_bins, g.min_y,
                                                                             g.max_y - g.min_y, y_guide_.get());
       EXPANSE_CUDA(cudaGetLastError());
-      g.x_guide = make_quantile_guide(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
-      g.y_guide = make_quantile_guide(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
+      g.x_guide = quantile_guide_or_none(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
+      g.y_guide = quantile_guide_or_none(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
     }
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());
     EXPANSE_CUDA(cudaGetLastError());

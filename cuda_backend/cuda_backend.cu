@@ -196,7 +196,6 @@ class CudaBackend final : public Backend {
     } else {
       EXPANSE_CUDA(cudaStreamCreateWithFlags(&ctx_.stream, cudaStreamNonBlocking));
       ctx_.own_stream = true;
-      EXPANSE_CUDA(cudaStreamCreateWithFlags(&ctx_.side_stream, cudaStreamNonBlocking));
     }
     std::string why;
     if (!device_self_test(ctx_.stream, &why))
@@ -210,10 +209,6 @@ class CudaBackend final : public Backend {
   ~CudaBackend() override {
     staging_.reset();
     if (ctx_.pinned_words) cudaFreeHost(ctx_.pinned_words);
-    if (ctx_.side_stream) {
-      cudaStreamSynchronize(ctx_.side_stream);
-      cudaStreamDestroy(ctx_.side_stream);
-    }
     if (ctx_.own_stream && ctx_.stream) {
       cudaStreamSynchronize(ctx_.stream);
       cudaStreamDestroy(ctx_.stream);

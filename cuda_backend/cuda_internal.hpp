@@ -62,10 +62,6 @@ struct Context {
   int device = 0;
   cudaStream_t stream = nullptr;
   bool own_stream = false;
-  /// The backend's second stream, for copies to the host that no device work waits for (the
-  /// prepared sites, while the stars grow); null when the caller lent `stream`, whose work then
-  /// all stays on it.
-  cudaStream_t side_stream = nullptr;
   std::string name;
   std::size_t total_memory = 0;
   int multiprocessors = 1;

@@ -68,24 +68,21 @@ EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d
 
 /// Where a quantile axis' binary search starts: the axis cut into `bins` equal intervals from
 /// `origin`, first[k] the column of interval k's left end (first[0] = 0, first[bins] = the last
-/// column). A value's interval gives a range [first[k], first[k + 1]] of a few columns, and two
-/// loads check that it holds the value's column, so the search returns exactly what the full
-/// binary search would, whatever the rounding of the interval (H100, 4096^2 uniform: cells
-/// looked up by 12-step binary searches cost the star kernel about a third of its time).
+/// column). A value's interval k, widened by one on each side, gives a range
+/// [first[k - 1], first[k + 2]] of a few columns that holds the value's column, so the search
+/// returns exactly what the full binary search would (H100, 4096^2 uniform: cells looked up by
+/// 12-step binary searches cost the star kernel about a third of its time). The widening covers
+/// the rounding of k and of the interval ends as long as an interval is wide against the
+/// coordinates' ulp (make_quantile_guide sets no guide otherwise: a narrow cluster far from 0).
 struct QuantileGuide {
-  const int* first = nullptr;
-  int bins = 0;
-  double origin = 0.0, scale = 0.0;  ///< interval of v: (v - origin) * scale, truncated
-
-  /// Narrows [*lo, *hi] = [0, cells - 1] to a range that still holds v's column.
-  EXPANSE_DEVICE_FORCE void narrow(const double* bounds, int cells, double v, int* lo, int* hi) const {
-    const double t = (v - origin) * scale;  // any rounding: the range is checked below
-    const int k = t >= 0.0 ? (t < static_cast<double>(bins) ? static_cast<int>(t) : bins - 1) : 0;
-    int l = load_readonly(first + k), h = load_readonly(first + k + 1);
-    if (l > 0 && !(load_readonly(bounds + l) <= v)) l = 0;                  // v's column is below l
-    if (h < cells - 1 && load_readonly(bounds + h + 1) <= v) h = cells - 1;  // or above h
-    *lo = l;
-    *hi = h;
+  /// Narrows [*lo, *hi] to a range that still holds v's column; t is v's place on the axis in
+  /// columns of the uniform grid over the same box ((v - min) * inv_w: a guide has two
+  /// intervals a uniform column).
+  EXPANSE_DEVICE_FORCE static void narrow(const int* first, int bins, double t, int* lo, int* hi) {
+    const double u = t + t;
+    const int k = u >= 0.0 ? (u < static_cast<double>(bins) ? static_cast<int>(u) : bins - 1) : 0;
+    *lo = load_readonly(first + (k > 0 ? k - 1 : 0));
+    *hi = load_readonly(first + (k + 2 < bins ? k + 2 : bins));
   }
 
   /// Entry k of the table for `bounds` (the full binary search at interval k's left end).
@@ -122,7 +119,8 @@ struct GridView {
   const double* xb = nullptr;  ///< quantile kind: gx + 1 column boundaries
   const double* yb = nullptr;
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
-  QuantileGuide x_guide{}, y_guide{};  ///< quantile kind, optional: where to start searching
+  const int* x_guide = nullptr;  ///< quantile kind, optional: where to start searching
+  const int* y_guide = nullptr;  ///< (QuantileGuide tables, over min_x/min_y and inv_w/inv_h)
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
@@ -136,21 +134,22 @@ struct GridView {
     }
     return lo;
   }
-  EXPANSE_DEVICE_FORCE static int quantile_index(const double* bounds, int cells, const QuantileGuide& guide,
+  /// Column (row) of v on a quantile axis: the full binary search, or the guided one.
+  EXPANSE_DEVICE_FORCE static int quantile_index(const double* bounds, int cells, const int* guide, double t,
                                                  double v) {
     int lo = 0, hi = cells - 1;
-    if (guide.first) guide.narrow(bounds, cells, v, &lo, &hi);
+    if (guide) QuantileGuide::narrow(guide, QuantileGuide::bins_for(cells), t, &lo, &hi);
     return upper_index(bounds, v, lo, hi);
   }
   EXPANSE_DEVICE_FORCE int cell_x(double x) const {
-    if (xb) return quantile_index(xb, gx, x_guide, x);
+    if (xb) return quantile_index(xb, gx, x_guide, (x - min_x) * inv_w, x);
     const double t = ex::mul(ex::sub(x, min_x), inv_w);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gx - 1)) return gx - 1;
     return static_cast<int>(t);
   }
   EXPANSE_DEVICE_FORCE int cell_y(double y) const {
-    if (yb) return quantile_index(yb, gy, y_guide, y);
+    if (yb) return quantile_index(yb, gy, y_guide, (y - min_y) * inv_h, y);
     const double t = ex::mul(ex::sub(y, min_y), inv_h);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gy - 1)) return gy - 1;

@@ -76,16 +76,15 @@ EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, 
   return sorted[k < samples ? k : samples - 1];
 }
 
-/// The guide over [lo, hi] for a table of QuantileGuide::bins_for(cells) + 1 entries filled by
-/// QuantileGuide::entry; none (a plain binary search) for an axis without extent.
-inline QuantileGuide make_quantile_guide(const int* table, int cells, double lo, double hi) {
-  QuantileGuide guide;
-  if (!(hi > lo) || table == nullptr) return guide;
-  guide.first = table;
-  guide.bins = QuantileGuide::bins_for(cells);
-  guide.origin = lo;
-  guide.scale = guide.bins / (hi - lo);
-  return guide;
+/// `table` (QuantileGuide::bins_for(cells) + 1 entries filled by QuantileGuide::entry over
+/// [lo, hi]) as the axis' guide, or none (a plain binary search) for an axis whose intervals
+/// would be narrower than 64 ulps of its coordinates, where rounding could move a value by a
+/// whole interval.
+inline const int* quantile_guide_or_none(const int* table, int cells, double lo, double hi) {
+  if (table == nullptr || !(hi > lo)) return nullptr;
+  const double magnitude = 2.0 * std::max(std::fabs(lo), std::fabs(hi));
+  const double ulp = std::nextafter(magnitude, HUGE_VAL) - magnitude;
+  return (hi - lo) / QuantileGuide::bins_for(cells) >= 64.0 * ulp ? table : nullptr;
 }
 
 }  // namespace expanse::detail::cuda

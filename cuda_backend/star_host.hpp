@@ -181,11 +181,11 @@ class HostStarLayout {
 
  private:
   static void fill_guide(const std::vector<double>& bounds, int cells, double lo, double hi, std::vector<int>& table,
-                         QuantileGuide& guide) {
+                         const int*& guide) {
     const int bins = QuantileGuide::bins_for(cells);
     table.resize(bins + 1);
     for (int k = 0; k <= bins; ++k) table[k] = QuantileGuide::entry(bounds.data(), cells, bins, lo, hi - lo, k);
-    guide = make_quantile_guide(table.data(), cells, lo, hi);
+    guide = quantile_guide_or_none(table.data(), cells, lo, hi);
   }
 
   GridView grid_{};

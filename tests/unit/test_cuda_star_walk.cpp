@@ -207,41 +207,51 @@ TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of 
 TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search", "[cuda][grid]") {
   // Boundaries as a cluster's quantiles give them: most of the columns in a small part of the
   // axis, runs of equal boundaries (duplicated coordinates), and values in, on, between and
-  // outside them.
+  // outside them; axes near 0, negative, and narrow far from 0 (where an interval is a few
+  // thousand ulps wide).
   std::mt19937_64 random(23);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (const int cells : {1, 2, 3, 64, 1000}) {
-    std::vector<double> bounds(cells + 1);
-    for (int j = 1; j < cells; ++j) {
-      const double t = double(j) / cells;
-      bounds[j] = 1.0 + 3.0 * t * t * t * t;
+  const std::vector<std::pair<double, double>> axes = {{1.0, 4.0}, {-3.0, -1.0}, {0.5, 0.5 + std::ldexp(1.0, -30)}};
+  for (const auto& [lo, hi] : axes) {
+    for (const int cells : {1, 2, 3, 64, 1000}) {
+      const double extent = hi - lo;
+      std::vector<double> bounds(cells + 1);
+      for (int j = 1; j < cells; ++j) {
+        const double t = double(j) / cells;
+        bounds[j] = lo + extent * t * t * t * t;
+      }
+      for (int j = 2; j + 1 < cells; j += 7) bounds[j] = bounds[j - 1];  // equal boundaries
+      const int bins = cuda::QuantileGuide::bins_for(cells);
+      std::vector<int> table(bins + 1);
+      for (int k = 0; k <= bins; ++k) table[k] = cuda::QuantileGuide::entry(bounds.data(), cells, bins, lo, extent, k);
+      const int* guide = cuda::quantile_guide_or_none(table.data(), cells, lo, hi);
+      REQUIRE(guide != nullptr);
+      const double inv = cells / extent;  // as make_grid_shape's inv_w
+      std::vector<double> values = {lo, hi, std::nextafter(lo, -HUGE_VAL), std::nextafter(hi, HUGE_VAL), -1e300, 1e300,
+                                    0.0};
+      for (int j = 1; j < cells; ++j)
+        values.insert(values.end(), {bounds[j], std::nextafter(bounds[j], -HUGE_VAL), std::nextafter(bounds[j], HUGE_VAL)});
+      for (int k = 0; k <= bins; ++k) {
+        const double edge = lo + extent * k / bins;
+        values.insert(values.end(), {edge, std::nextafter(edge, -HUGE_VAL), std::nextafter(edge, HUGE_VAL)});
+      }
+      for (int trial = 0; trial < 20000; ++trial) values.push_back(lo + extent * (1.2 * unit(random) - 0.1));
+      std::size_t mismatches = 0;
+      int previous = 0;
+      std::sort(values.begin(), values.end());
+      for (const double v : values) {
+        const int plain = cuda::GridView::upper_index(bounds.data(), v, 0, cells - 1);
+        const int guided = cuda::GridView::quantile_index(bounds.data(), cells, guide, (v - lo) * inv, v);
+        mismatches += plain != guided;
+        if (guided < previous) ++mismatches;  // monotone
+        previous = guided;
+      }
+      INFO("axis [" << lo << ", " << hi << "], " << cells << " columns, " << values.size() << " values");
+      CHECK(mismatches == 0);
     }
-    for (int j = 2; j + 1 < cells; j += 7) bounds[j] = bounds[j - 1];  // equal boundaries
-    const double lo = 1.0, hi = 4.0;
-    const int bins = cuda::QuantileGuide::bins_for(cells);
-    std::vector<int> table(bins + 1);
-    for (int k = 0; k <= bins; ++k) table[k] = cuda::QuantileGuide::entry(bounds.data(), cells, bins, lo, hi - lo, k);
-    const cuda::QuantileGuide guide = cuda::make_quantile_guide(table.data(), cells, lo, hi);
-    REQUIRE(guide.first != nullptr);
-    std::vector<double> values = {lo, hi, std::nextafter(lo, 0.0), std::nextafter(hi, 10.0), -1e300, 1e300, 0.0};
-    for (int j = 1; j < cells; ++j)
-      values.insert(values.end(), {bounds[j], std::nextafter(bounds[j], 0.0), std::nextafter(bounds[j], 10.0)});
-    for (int k = 0; k <= bins; ++k) {
-      const double edge = lo + (hi - lo) * k / bins;
-      values.insert(values.end(), {edge, std::nextafter(edge, 0.0), std::nextafter(edge, 10.0)});
-    }
-    for (int trial = 0; trial < 20000; ++trial) values.push_back(0.5 + 4.0 * unit(random));
-    std::size_t mismatches = 0;
-    int previous = 0;
-    std::sort(values.begin(), values.end());
-    for (const double v : values) {
-      const int plain = cuda::GridView::upper_index(bounds.data(), v, 0, cells - 1);
-      const int guided = cuda::GridView::quantile_index(bounds.data(), cells, guide, v);
-      mismatches += plain != guided;
-      CHECK(guided >= previous);  // monotone
-      previous = guided;
-    }
-    INFO(cells << " columns, " << values.size() << " values");
-    CHECK(mismatches == 0);
   }
+  // An axis whose intervals would be a few ulps wide gets no guide.
+  std::vector<int> table(cuda::QuantileGuide::bins_for(1000) + 1, 0);
+  CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75 + 1e-14) == nullptr);
+  CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75) == nullptr);
 }
