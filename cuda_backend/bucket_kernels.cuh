@@ -131,8 +131,10 @@ class CellBuckets {
       guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), shape_.gy, y_bins, g.min_y,
                                                                             g.max_y - g.min_y, y_guide_.get());
       EXPANSE_CUDA(cudaGetLastError());
-      g.x_guide = quantile_guide_or_none(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
-      g.y_guide = quantile_guide_or_none(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
+      if (!guide_off_asked()) {
+        g.x_guide = quantile_guide_or_none(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
+        g.y_guide = quantile_guide_or_none(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
+      }
     }
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());
     EXPANSE_CUDA(cudaGetLastError());
@@ -149,6 +151,11 @@ class CellBuckets {
   }
 
  private:
+  // EXPANSE_CUDA_GUIDE=off: quantile cells by the full binary search (for comparisons).
+  static bool guide_off_asked() {
+    const char* env = std::getenv("EXPANSE_CUDA_GUIDE");
+    return env && std::strcmp(env, "off") == 0;
+  }
   static bool uniform_grid_asked() {
     const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
     return grid_env && std::strcmp(grid_env, "uniform") == 0;

@@ -231,6 +231,16 @@ constexpr int kThreads = 256;
 /// 4096^2 it lost (gaussian 130 against 104, kuzmin 259 against 148; 2^9: 98 / 105 / 330 / 166
 /// against 100 / 104 / 330 / 148), session 5 call 4. Between the two sizes it is not measured.
 unsigned first_pass_budget(std::size_t sites) { return sites <= (std::size_t{1} << 18) ? 1u << 8 : 1u << 10; }
+/// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
+/// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes
+/// their triangles for less: budget 2^13 against 2^16 (H100, 2026-11-24, session 6 call 4, star
+/// kernel): 512^2 uniform 3.5 against 5.3 ms, gaussian 4.0 / 4.4, grid and kuzmin unchanged;
+/// 1024^2 uniform 8.4 / 11.6, gaussian 7.6 / 16.5; seam share at most 0.03% (uniform 1024^2,
+/// 123 sites deferred). 2^12 was faster still at 512^2 (uniform 3.3 ms) but deferred kuzmin's
+/// sites by the hundred (0.06%, 0.07% at 1024^2), and at 4096^2 by the ten thousand (0.13%).
+unsigned box_search_budget(std::size_t sites) {
+  return sites <= (std::size_t{1} << 20) ? 1u << 13 : default_budget(StarSearch::boxes);
+}
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry; the star row; triangles and neighbours (about 2 a site).
 std::size_t per_site_bytes() {
@@ -286,7 +296,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const char* search_env = std::getenv("EXPANSE_CUDA_SEARCH");
   const bool rings = search_env && std::strcmp(search_env, "rings") == 0;
   const unsigned budget = budget_env ? static_cast<unsigned>(std::strtoul(budget_env, nullptr, 10))
-                                     : default_budget(rings ? StarSearch::rings : StarSearch::boxes);
+                          : rings    ? default_budget(StarSearch::rings)
+                                     : box_search_budget(n);
 
   std::size_t scan_bytes = 0;
   EXPANSE_CUDA(cub::DeviceScan::InclusiveSum(nullptr, scan_bytes, d_owned.get(), d_offset.get() + 1,
