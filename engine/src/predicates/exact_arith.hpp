@@ -94,17 +94,8 @@ EXPANSE_HD inline void split(double a, double& high, double& low) {
   low = sub(a, high);
 }
 
-/// On CUDA devices the remainder is one fused multiply-add: a*b - product is representable
-/// (barring underflow, as for Dekker's product), so the fma's single rounding leaves it exact.
-/// That is an explicit fma whose one rounding is the point, not a contraction of code written
-/// for two; it gives the remainder Dekker's 17 operations give. (GLSL keeps Dekker's: lavapipe
-/// lowers a 64-bit fma to a multiply and an add. The host keeps it too: without -mfma, std::fma
-/// is a library call.)
 EXPANSE_HD inline double two_product(double a, double b, double& error) {
   const double product = mul(a, b);
-#if defined(__CUDA_ARCH__)
-  error = __fma_rn(a, b, -product);
-#else
   double a_high, a_low, b_high, b_low;
   split(a, a_high, a_low);
   split(b, b_high, b_low);
@@ -112,7 +103,6 @@ EXPANSE_HD inline double two_product(double a, double b, double& error) {
   const double rest2 = sub(rest1, mul(a_low, b_high));
   const double rest3 = sub(rest2, mul(a_high, b_low));
   error = sub(mul(a_low, b_low), rest3);
-#endif
   return product;
 }
 
@@ -204,14 +194,11 @@ EXPANSE_HD inline int sum_terms(const double* e, int e_size, const double* f, in
 /// h = e * b on raw arrays; h may not alias e. Returns the number of terms.
 EXPANSE_HD inline int scale_terms(const double* e, int e_size, double b, double* h) {
   if (e_size == 0 || b == 0.0) return 0;
-  int h_size = 0;
-  double error;
-#if defined(__CUDA_ARCH__)
-  auto product_with_b = [&](double a, double& product_error) { return two_product(a, b, product_error); };
-#else
   double b_high, b_low;
   split(b, b_high, b_low);
-  // Dekker's product as two_product, reusing b's split.
+  int h_size = 0;
+  double error;
+  // Same Dekker product as two_product, reusing b's split.
   auto product_with_b = [&](double a, double& product_error) {
     const double product = mul(a, b);
     double a_high, a_low;
@@ -222,7 +209,6 @@ EXPANSE_HD inline int scale_terms(const double* e, int e_size, double b, double*
     product_error = sub(mul(a_low, b_low), rest3);
     return product;
   };
-#endif
   double running = product_with_b(e[0], error);
   if (error != 0.0) h[h_size++] = error;
   for (int i = 1; i < e_size; ++i) {
