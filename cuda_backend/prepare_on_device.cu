@@ -319,6 +319,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   // while the stars grew, straight into pageable memory, these copies held up the star kernel's
   // launch: 4096^2 uniform host to host 230 -> 303 ms, H100, session 6 call 3.)
   sites.scale_exponent = input.scan.scale_exponent;
+  sites.integer_coordinates = input.scan.integer_coordinates;
   sites.bounds = bounds;
   resize_for_parallel_write(sites.points, m);
   resize_for_parallel_write(sites.input_index, m);

@@ -321,10 +321,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   timer.begin("stars");
   // EXPANSE_CUDA_BLOCKS_PER_SM (6 or 8) caps the star kernel's registers so that that many
   // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
-  // 64 at 8, 80 at 6). 8 measured fastest on the H100 (2026-11-23, one-pass kernel, 4096^2:
-  // uniform 230 ms against 237 at 4 blocks and 304 at 2; kuzmin 634 against 680 and 866).
+  // 64 at 8, 80 at 6). 6 for integer coordinates: a lattice's cocircular cells send most
+  // candidates to the out-of-line exact decision, and the registers live across that call
+  // spill at 64. H100, 2026-11-24 (session 6 call 7, star kernel, 6 against 8, one run):
+  // grid 4096^2 252.8 against 308.0 ms, 2048^2 63.5 / 77.4, 512^2 4.00 / 4.83; uniform 78.1 /
+  // 78.2 at 4096^2; but kuzmin 172.7 / 158.6, so not for every input.
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
-  const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : 8;
+  const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : input.sites.integer_coordinates ? 6 : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
   // first_pass_budget(n) (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");

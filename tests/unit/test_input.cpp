@@ -40,3 +40,19 @@ TEST_CASE("large inputs merge duplicates to their first occurrence, sites in Mor
     REQUIRE(std::ldexp(original.y, sites.scale_exponent) == sites.points[s].y);
   }
 }
+
+TEST_CASE("the scan tells integer coordinates apart, and the sites keep it", "[input]") {
+  // Large enough for several chunks, so every chunk's verdict counts.
+  std::vector<expanse::Point2> lattice;
+  for (int i = 0; i < 300000; ++i) lattice.push_back({double(i % 600) - 300.0, double(i / 600) * 4.0});
+  CHECK(expanse::detail::scan_input(lattice).integer_coordinates);
+  CHECK(expanse::detail::prepare_sites(lattice).integer_coordinates);
+  for (const std::size_t at : {std::size_t{0}, lattice.size() / 2, lattice.size() - 1}) {
+    std::vector<expanse::Point2> off = lattice;
+    off[at].y += 0.5;
+    INFO("a half at point " << at);
+    CHECK_FALSE(expanse::detail::scan_input(off).integer_coordinates);
+    CHECK_FALSE(expanse::detail::prepare_sites(off).integer_coordinates);
+  }
+  CHECK_FALSE(expanse::detail::scan_input(expanse::generate_points("uniform", 1000, 1)).integer_coordinates);
+}

@@ -65,6 +65,7 @@ InputScan scan_input(std::span<const Point2> input) {
     double max_abs = 0.0;
     double min_nonzero_abs = std::numeric_limits<double>::infinity();
     Box box{};
+    bool integers = true;
   };
   std::vector<Scan> scans(std::max<std::size_t>(chunks, 1));
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
@@ -76,6 +77,7 @@ InputScan scan_input(std::span<const Point2> input) {
         if (v > r.max_abs) r.max_abs = v;
         if (v != 0.0 && v < r.min_nonzero_abs) r.min_nonzero_abs = v;
       }
+      r.integers &= (std::trunc(p.x) == p.x) & (std::trunc(p.y) == p.y);
       if (i == begin) r.box = {p.x, p.y, p.x, p.y};
       r.box.min_x = std::min(r.box.min_x, p.x);
       r.box.max_x = std::max(r.box.max_x, p.x);
@@ -87,7 +89,9 @@ InputScan scan_input(std::span<const Point2> input) {
   double max_abs = 0.0;
   double min_nonzero_abs = std::numeric_limits<double>::infinity();
   Box box = scans[0].box;
+  bool integers = true;
   for (const Scan& r : scans) {
+    integers = integers && r.integers;
     max_abs = std::max(max_abs, r.max_abs);
     min_nonzero_abs = std::min(min_nonzero_abs, r.min_nonzero_abs);
     box.min_x = std::min(box.min_x, r.box.min_x);
@@ -97,6 +101,7 @@ InputScan scan_input(std::span<const Point2> input) {
   }
 
   InputScan scan;
+  scan.integer_coordinates = integers;
   scan.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
   scan.factor = scan.scale_exponent <= 1023 ? std::ldexp(1.0, scan.scale_exponent) : 0.0;
   if (n > 0) {
@@ -113,6 +118,7 @@ SiteSet prepare_sites(std::span<const Point2> input) {
   SiteSet sites;
   sites.scale_exponent = scan.scale_exponent;
   sites.bounds = scan.bounds;
+  sites.integer_coordinates = scan.integer_coordinates;
   const Box box = scan.bounds;
   const auto scaled = [&scan](const Point2& p) { return scan.scaled(p); };
 

@@ -22,6 +22,9 @@ struct InputScan {
   int scale_exponent = 0;
   Box bounds;  ///< of the scaled points
   double factor = 1.0;  ///< 2^scale_exponent, or 0 where that overflows (ldexp then)
+  /// Every input coordinate an integer: a lattice, whose cocircular cells make the devices
+  /// settle many candidates exactly (a backend may pick kernels for that; never correctness).
+  bool integer_coordinates = false;
 
   /// p multiplied by 2^scale_exponent: exact, one rounding as ldexp does.
   Point2 scaled(const Point2& p) const {
@@ -42,6 +45,7 @@ struct SiteSet {
   /// Power of two the input was scaled by, so that the largest |coordinate| lies in [0.5, 1).
   int scale_exponent = 0;
   Box bounds;  ///< of the scaled sites
+  bool integer_coordinates = false;  ///< as InputScan::integer_coordinates
 
   std::int32_t size() const { return static_cast<std::int32_t>(points.size()); }
 };
