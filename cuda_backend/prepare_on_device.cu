@@ -99,34 +99,12 @@ __global__ void compact_kernel(const double2* sorted, const int* sorted_input, c
   representative[input] = sorted_input[f];
 }
 
-struct QuantiserView {
-  double origin_x, origin_y, scale;
-};
-
-__device__ __forceinline__ std::uint32_t quantise(double v, double origin, double scale) {
-  // As Quantiser::x: (v - origin) * scale, clamped to [0, max], truncated; no contraction.
-  const double q = __dmul_rn(__dsub_rn(v, origin), scale);
-  if (!(q > 0.0)) return 0;
-  if (q >= static_cast<double>(Quantiser::max)) return Quantiser::max;
-  return static_cast<std::uint32_t>(q);
+/// p's Morton code, as prepare_sites computes it (the same host-and-device code).
+__device__ __forceinline__ std::uint64_t morton(double2 p, const Quantiser& q) {
+  return morton_code(q.x(p.x), q.y(p.y));
 }
 
-__device__ __forceinline__ std::uint64_t spread_bits(std::uint32_t v) {
-  std::uint64_t x = v;
-  x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
-  x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
-  x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
-  x = (x | (x << 2)) & 0x3333333333333333ull;
-  x = (x | (x << 1)) & 0x5555555555555555ull;
-  return x;
-}
-
-/// p's Morton code, as morton_code(quantiser.x(p.x), quantiser.y(p.y)).
-__device__ __forceinline__ std::uint64_t morton(double2 p, QuantiserView q) {
-  return spread_bits(quantise(p.x, q.origin_x, q.scale)) | (spread_bits(quantise(p.y, q.origin_y, q.scale)) << 1);
-}
-
-__global__ void morton_kernel(const double2* points, int n, QuantiserView q, std::uint64_t* codes, int* ids) {
+__global__ void morton_kernel(const double2* points, int n, Quantiser q, std::uint64_t* codes, int* ids) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   codes[i] = morton(points[i], q);
@@ -153,7 +131,7 @@ __global__ void iota_kernel(int* ids, int n) {
   if (k < n) ids[k] = k;
 }
 
-__global__ void key_kernel(const double2* points, const int* ids, int n, int key, QuantiserView q,
+__global__ void key_kernel(const double2* points, const int* ids, int n, int key, Quantiser q,
                            std::uint64_t* keys) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= n) return;
@@ -241,7 +219,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     EXPANSE_CUDA(cudaGetLastError());
     const Quantiser quantiser(bounds);
     morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), static_cast<int>(n),
-                                                          {quantiser.origin_x, quantiser.origin_y, quantiser.scale},
+                                                          quantiser,
                                                           d_codes.get(), d_ids.get());
     EXPANSE_CUDA(cudaGetLastError());
     std::size_t temp_bytes = d_temp.bytes();
@@ -265,7 +243,6 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     if (words[0] != 0) {
       // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
       // finer than the quantisation): sort by (code, x, y), stably, and group equal neighbours.
-      const QuantiserView q{quantiser.origin_x, quantiser.origin_y, quantiser.scale};
       std::size_t full_sort_bytes = 0, max_scan_bytes = 0;
       EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, full_sort_bytes, d_codes.get(), d_codes_sorted.get(),
                                                    d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0, 64,
@@ -276,7 +253,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
       iota_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), static_cast<int>(n));
       for (const int key : {0, 1, 2}) {  // least significant first
         key_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), d_sorted_ids.get(), static_cast<int>(n), key,
-                                                            q, d_codes.get());
+                                                            quantiser, d_codes.get());
         EXPANSE_CUDA(cudaGetLastError());
         EXPANSE_CUDA(cudaMemcpyAsync(d_ids.get(), d_sorted_ids.get(), n * sizeof(int), cudaMemcpyDeviceToDevice,
                                      stream));

@@ -7,6 +7,14 @@
 #include "input/parallel.hpp"
 #include "input/site_set.hpp"
 
+// The quantisation and the codes also run on CUDA devices (prepare_on_device.cu sorts the raw
+// input by them), which must compute the same codes: the device build does not contract either.
+#if defined(__CUDACC__)
+#define EXPANSE_MORTON_HD __host__ __device__
+#else
+#define EXPANSE_MORTON_HD
+#endif
+
 namespace expanse::detail {
 
 struct Quantiser {
@@ -17,29 +25,31 @@ struct Quantiser {
 
   /// A square domain over `box`, so squares in quanta are squares in the plane.
   explicit Quantiser(const Box& box);
-  std::uint32_t x(double v) const { return clamp((v - origin_x) * scale); }
-  std::uint32_t y(double v) const { return clamp((v - origin_y) * scale); }
+  EXPANSE_MORTON_HD std::uint32_t x(double v) const { return clamp((v - origin_x) * scale); }
+  EXPANSE_MORTON_HD std::uint32_t y(double v) const { return clamp((v - origin_y) * scale); }
 
  private:
-  static std::uint32_t clamp(double q) {
+  EXPANSE_MORTON_HD static std::uint32_t clamp(double q) {
     if (!(q > 0.0)) return 0;
     if (q >= static_cast<double>(max)) return max;
     return static_cast<std::uint32_t>(q);
   }
 };
 
+/// v's bits spread to the even bits of the result.
+EXPANSE_MORTON_HD inline std::uint64_t spread_bits(std::uint32_t v) {
+  std::uint64_t x = v;
+  x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+  x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+  x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
+  x = (x | (x << 2)) & 0x3333333333333333ull;
+  x = (x | (x << 1)) & 0x5555555555555555ull;
+  return x;
+}
+
 /// Interleaves x (even bits) and y (odd bits).
-inline std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
-  const auto spread = [](std::uint32_t v) {
-    std::uint64_t x = v;
-    x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
-    x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
-    x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
-    x = (x | (x << 2)) & 0x3333333333333333ull;
-    x = (x | (x << 1)) & 0x5555555555555555ull;
-    return x;
-  };
-  return spread(qx) | (spread(qy) << 1);
+EXPANSE_MORTON_HD inline std::uint64_t morton_code(std::uint32_t qx, std::uint32_t qy) {
+  return spread_bits(qx) | (spread_bits(qy) << 1);
 }
 
 /// The top-level split of a Morton sort, planned from a sample of the codes: buckets that are
