@@ -14,16 +14,16 @@
 // coordinate: distinct points share one only when closer than 2^-30 of the box). Where a run is
 // longer than kMergeRunLimit (many copies of few points, or a cluster finer than the
 // quantisation: kuzmin's centre at 2048^2 and up), the points are sorted again by (code, x, y)
-// so that equal points are neighbours. The session-6 version merged by cells of the star grid
+// so that equal points are neighbours. (A first version merged within cells of the star grid
 // and left crowded cells to the host: a quantile grid's central cell holds far more than its
-// share of a radial cluster, so kuzmin inputs went back to the host's preparation.
+// share of a radial cluster, so kuzmin inputs went back to the host's preparation.)
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cuda/functional>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <future>
 #include <ranges>
 
@@ -34,7 +34,8 @@
 namespace expanse::detail::cuda {
 namespace {
 
-/// Past this many points with one Morton code, the look for equal points is left to the host.
+/// Past this many points with one Morton code, equal points are found by a second sort, not by
+/// looking back through the run.
 constexpr int kMergeRunLimit = 64;
 constexpr int kThreads = 256;
 int blocks_for(std::size_t n) { return static_cast<int>((n + kThreads - 1) / kThreads); }
@@ -170,8 +171,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   const std::size_t h = input.hull.size();
   if (n >= (std::size_t{1} << 30)) return false;  // the host's path refuses it, with the error
   const Box& bounds = input.scan.bounds;
-  // Raw and sorted points; codes and ids twice; the merge's three arrays and the two maps.
-  require_device_memory(n * (2 * sizeof(double2) + 2 * sizeof(std::uint64_t) + 8 * sizeof(int)), n, "points");
+  // Raw, sorted and site points; codes twice; ids twice, the merge's three arrays, the sites'
+  // input indices, the representatives and the input-to-site map.
+  require_device_memory(n * (3 * sizeof(double2) + 2 * sizeof(std::uint64_t) + 8 * sizeof(int)), n, "points");
 
   // Every point its own representative, written on another host thread while the device works
   // (the usual case; the device's map replaces it where points repeat).
@@ -218,8 +220,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                                                           input.scan.factor);
     EXPANSE_CUDA(cudaGetLastError());
     const Quantiser quantiser(bounds);
-    morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), static_cast<int>(n),
-                                                          quantiser,
+    morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), static_cast<int>(n), quantiser,
                                                           d_codes.get(), d_ids.get());
     EXPANSE_CUDA(cudaGetLastError());
     std::size_t temp_bytes = d_temp.bytes();
