@@ -202,12 +202,22 @@ class CudaBackend final : public Backend {
       throw Error(ErrorCode::device_error, "CUDA backend: device arithmetic self-test failed on " + ctx_.name + ": " + why);
     staging_ = std::make_unique<PinnedStaging>();
     ctx_.staging = staging_.get();
+    if (ctx_.own_stream) {
+      EXPANSE_CUDA(cudaStreamCreateWithFlags(&ctx_.side_stream, cudaStreamNonBlocking));
+      side_staging_ = std::make_unique<PinnedStaging>();
+      ctx_.side_staging = side_staging_.get();
+    }
     EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), 16 * sizeof(unsigned int),
                                cudaHostAllocDefault));
   }
 
   ~CudaBackend() override {
     staging_.reset();
+    side_staging_.reset();
+    if (ctx_.side_stream) {
+      cudaStreamSynchronize(ctx_.side_stream);
+      cudaStreamDestroy(ctx_.side_stream);
+    }
     if (ctx_.pinned_words) cudaFreeHost(ctx_.pinned_words);
     if (ctx_.own_stream && ctx_.stream) {
       cudaStreamSynchronize(ctx_.stream);
@@ -245,7 +255,7 @@ class CudaBackend final : public Backend {
 
  private:
   Context ctx_;
-  std::unique_ptr<PinnedStaging> staging_;
+  std::unique_ptr<PinnedStaging> staging_, side_staging_;
 };
 
 }  // namespace

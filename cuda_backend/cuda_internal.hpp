@@ -66,6 +66,11 @@ struct Context {
   std::size_t total_memory = 0;
   int multiprocessors = 1;
   PinnedStaging* staging = nullptr;
+  /// A second stream and staging ring for copies to the host that no device work waits for
+  /// (the prepared sites, while the stars grow); null when the caller lent `stream`, whose
+  /// work then all stays on it.
+  cudaStream_t side_stream = nullptr;
+  PinnedStaging* side_staging = nullptr;
   unsigned int* pinned_words = nullptr;  ///< 16 pinned words for small asynchronous read-backs
 };
 

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <future>
 #include <ranges>
 
@@ -293,9 +294,11 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   }
 
   // The host's copy of what it prepared: the seam stage and the output need the sites, the
-  // input indices and the representatives; the hull in site ids. (Copied on a second stream
-  // while the stars grew, straight into pageable memory, these copies held up the star kernel's
-  // launch: 4096^2 uniform host to host 230 -> 303 ms, H100, session 6 call 3.)
+  // input indices and the representatives (grow_per_site only their number); the hull in site
+  // ids. With a side stream, through its own pinned ring on another host thread while the stars
+  // grow (EXPANSE_CUDA_SITES_COPY=before: first, on the main stream). Copied straight into
+  // pageable memory on a side stream instead, the copies held up the star kernel's launch
+  // (4096^2 uniform host to host 230 -> 303 ms, H100, session 6 call 3).
   sites.scale_exponent = input.scan.scale_exponent;
   sites.integer_coordinates = input.scan.integer_coordinates;
   sites.bounds = bounds;
@@ -303,32 +306,47 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   resize_for_parallel_write(sites.input_index, m);
   Hull& hull = result.hull;
   hull.sites.resize(h);
-  timer.begin("download sites");
-  ctx.staging->download(sites.points.data(), d_site_points.get(), m * sizeof(double2), stream);
-  ctx.staging->download(sites.input_index.data(), d_site_input.get(), m * sizeof(int), stream);
-  ctx.staging->download(hull.sites.data(), d_hull_sites.get(), h * sizeof(int), stream);
-  identity.get();
-  if (m < n) ctx.staging->download(sites.representative.data(), d_representative.get(), n * sizeof(int), stream);
-  timer.end();
-  const auto host_downloaded = clock::now();
-  resize_for_parallel_write(hull.predecessor, m);
-  parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
-    std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
-              hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);
-  });
-  for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
+  const char* copy_env = std::getenv("EXPANSE_CUDA_SITES_COPY");
+  const bool alongside = ctx.side_stream && !(copy_env && std::strcmp(copy_env, "before") == 0);
+  double copies_ms = 0.0;
+  const auto copy_to_host = [&, h, m, n](PinnedStaging& staging, cudaStream_t on) {
+    const auto start = clock::now();
+    EXPANSE_CUDA(cudaSetDevice(ctx.device));
+    staging.download(hull.sites.data(), d_hull_sites.get(), h * sizeof(int), on);
+    staging.download(sites.points.data(), d_site_points.get(), m * sizeof(double2), on);
+    staging.download(sites.input_index.data(), d_site_input.get(), m * sizeof(int), on);
+    identity.get();
+    if (m < n) staging.download(sites.representative.data(), d_representative.get(), n * sizeof(int), on);
+    resize_for_parallel_write(hull.predecessor, m);
+    parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      std::fill(hull.predecessor.begin() + static_cast<std::ptrdiff_t>(begin),
+                hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);
+    });
+    for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
+    copies_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
+  };
+  std::future<void> copies;
+  if (alongside)
+    copies = std::async(std::launch::async, copy_to_host, std::ref(*ctx.side_staging), ctx.side_stream);
+  else
+    copy_to_host(*ctx.staging, stream);
   const auto host_prepared = clock::now();
 
   std::vector<StageTime> prepare_stages = timer.collect();
   const SitesOnDevice on_device{d_site_points.get(), d_hull_sites.get()};
   grow_per_site(ctx, GrowInput{sites, hull, input.layout, input.recycled}, result.grown, &on_device);
+  const auto host_grown = clock::now();
+  if (copies.valid()) copies.get();
   auto& stages = result.grown.device_stages;
   stages.insert(stages.begin(), prepare_stages.begin(), prepare_stages.end());
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   auto& host = result.grown.host_stages;
   host.insert(host.begin(), {{"cuda upload of the input (host)", ms(host_start, host_uploaded)},
-                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_downloaded)},
-                             {"cuda host copy of the hull's links", ms(host_downloaded, host_prepared)}});
+                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_prepared)}});
+  host.push_back({alongside ? "cuda copy of the sites to the host (while the stars grow)"
+                            : "cuda copy of the sites to the host (before the growth)",
+                  copies_ms});
+  if (alongside) host.push_back({"cuda wait for the sites' copy after the growth", ms(host_grown, clock::now())});
   last_run_counters().bytes_to_device = n * sizeof(double2) + h * sizeof(int);
   last_run_counters().bytes_to_host +=
       m * (sizeof(double2) + sizeof(int)) + h * sizeof(int) + (m < n ? n * sizeof(int) : 0);
