@@ -110,13 +110,16 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
                                                    const int* offset, const int* sorted_ids, int n,
-                                                   bool with_neighbors, int* triangles, int* neighbors) {
+                                                   bool with_neighbors, int capacity, int* triangles,
+                                                   int* neighbors) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const std::uint32_t inf = info[i];
   if (star_deferred(inf)) return;
   int out = offset[i];
-  if (out == offset[i + 1]) return;
+  // Past `capacity` (more triangles than a triangulation has: a broken walk, which the host
+  // then reports) nothing is written.
+  if (out == offset[i + 1] || offset[i + 1] > capacity) return;
   const int deg = star_degree(inf);
   const bool closed = star_closed(inf);
   const int tris = closed ? deg : deg - 1;
@@ -377,6 +380,21 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_offset.get() + n, sizeof(int), cudaMemcpyDeviceToHost, stream));
   EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_counters.get(), 7 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
 
+  // The triangles, written where the scan put them into room for the whole triangulation (the
+  // most the device can make), so that the device goes on while the host readies the output
+  // below: sized to the count, they waited for the host to read it (H100, 4096^2 uniform: the
+  // emit's 10 ms after the host's 108 ms of output allocation, session 6 call 10).
+  const std::size_t full = n >= 3 ? 2 * n - input.hull.sites.size() - 2 : 0;
+  const bool with_neighbors = true;
+  DeviceArray<int> d_triangles(3 * full, stream);
+  DeviceArray<int> d_neighbors(with_neighbors ? 3 * full : 0, stream);
+  timer.begin("emit");
+  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids,
+                                                      static_cast<int>(n), with_neighbors, static_cast<int>(full),
+                                                      d_triangles.get(), d_neighbors.get());
+  EXPANSE_CUDA(cudaGetLastError());
+  timer.end();
+
   // Room for the whole triangulation (2n - h - 2), which is also the most the device can make:
   // the seam stage appends what deferred sites leave in place, where exactly-sized vectors would
   // have to move (805 MB at 4096^2) first. Fresh pages are faulted in on every core and zeroed
@@ -390,16 +408,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   unsigned int sizes[8];
   std::memcpy(sizes, words, sizeof sizes);
   const std::size_t triangle_count = sizes[0];
-  const bool with_neighbors = true;
-
-  DeviceArray<int> d_triangles(3 * triangle_count, stream);
-  DeviceArray<int> d_neighbors(with_neighbors ? 3 * triangle_count : 0, stream);
-  timer.begin("emit");
-  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids,
-                                                      static_cast<int>(n), with_neighbors, d_triangles.get(),
-                                                      d_neighbors.get());
-  EXPANSE_CUDA(cudaGetLastError());
-  timer.end();
+  if (triangle_count > full)
+    throw Error(ErrorCode::device_error, "CUDA backend: the stars made " + std::to_string(triangle_count) +
+                                             " triangles, more than a triangulation of " + std::to_string(n) +
+                                             " sites has (" + std::to_string(full) + ")");
+  const std::size_t triangle_bytes = 3 * triangle_count * sizeof(int);
   // The audit, on the device. Open edges inside the hull (left by deferred sites) are rare:
   // counted first, then listed, sorted and matched against their reverses.
   bool audited = false;
@@ -466,8 +479,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   partial.triangles.resize(triangle_count);  // shrinks: no reallocation
   partial.neighbors.resize(with_neighbors ? triangle_count : 0);
   timer.begin("download");
-  ctx.staging->download(partial.triangles.data(), d_triangles.get(), d_triangles.bytes(), stream);
-  if (with_neighbors) ctx.staging->download(partial.neighbors.data(), d_neighbors.get(), d_neighbors.bytes(), stream);
+  ctx.staging->download(partial.triangles.data(), d_triangles.get(), triangle_bytes, stream);
+  if (with_neighbors) ctx.staging->download(partial.neighbors.data(), d_neighbors.get(), triangle_bytes, stream);
   timer.end();
   const auto host_done = clock::now();
 
@@ -485,7 +498,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   std::memcpy(&predicates, &sizes[3], sizeof predicates);
   counters.predicates = predicates;
   counters.bytes_to_device = on_device ? 0 : n * sizeof(double2) + d_uploaded_hull.bytes();
-  counters.bytes_to_host = d_triangles.bytes() + d_neighbors.bytes() + 2 * sizeof(int);
+  counters.bytes_to_host = (with_neighbors ? 2 : 1) * triangle_bytes + 2 * sizeof(int);
   counters.triangles = triangle_count;
   counters.max_cells_per_site = sizes[5];
   counters.sites_over_4096_cells = sizes[6];
