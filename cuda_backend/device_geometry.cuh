@@ -73,7 +73,7 @@ EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d
 /// returns exactly what the full binary search would (H100, 4096^2 uniform: cells looked up by
 /// 12-step binary searches cost the star kernel about a third of its time). The widening covers
 /// the rounding of k and of the interval ends as long as an interval is wide against the
-/// coordinates' ulp (make_quantile_guide sets no guide otherwise: a narrow cluster far from 0).
+/// coordinates' ulp (quantile_guide_or_none sets no guide otherwise: a narrow cluster far from 0).
 struct QuantileGuide {
   /// Narrows [*lo, *hi] to a range that still holds v's column; t is v's place on the axis in
   /// columns of the uniform grid over the same box ((v - min) * inv_w: a guide has two
@@ -86,18 +86,8 @@ struct QuantileGuide {
   }
 
   /// Entry k of the table for `bounds` (the full binary search at interval k's left end).
-  EXPANSE_HOST_DEVICE static int entry(const double* bounds, int cells, int bins, double origin, double extent, int k) {
-    if (k <= 0) return 0;
-    if (k >= bins) return cells - 1;
-    const double v = origin + extent * k / bins;
-    int lo = 0, hi = cells - 1;
-    while (lo < hi) {
-      const int m = (lo + hi + 1) >> 1;
-      if (bounds[m] <= v) lo = m;
-      else hi = m - 1;
-    }
-    return lo;
-  }
+  EXPANSE_DEVICE_FORCE static int entry(const double* bounds, int cells, int bins, double origin, double extent,
+                                        int k);
   /// How many intervals a guide of an axis with `cells` columns gets.
   EXPANSE_HOST_DEVICE static int bins_for(int cells) { return 2 * cells; }
 };
@@ -179,6 +169,13 @@ struct GridView {
     *hi = y == gy - 1 ? max_y : h + slop;
   }
 };
+
+EXPANSE_DEVICE_FORCE int QuantileGuide::entry(const double* bounds, int cells, int bins, double origin,
+                                              double extent, int k) {
+  if (k <= 0) return 0;
+  if (k >= bins) return cells - 1;
+  return GridView::upper_index(bounds, origin + extent * k / bins, 0, cells - 1);
+}
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
 EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {

@@ -66,10 +66,9 @@ class Backend {
   /// sites, not all collinear.
   virtual GrowResult grow(const GrowInput& input) = 0;
   /// Prepares the sites itself and grows: the whole of prepare_sites, convex_hull's site ids
-  /// and grow() in one. std::nullopt when it cannot (this layout, or input it leaves to the
-  /// host): nothing was consumed, input.recycled
-  /// included, and the caller prepares on the host and calls grow(). Precondition: the hull has
-  /// at least three sites, not all collinear.
+  /// and grow() in one. std::nullopt when it cannot (this layout, or an input too large for
+  /// it): nothing was consumed, input.recycled included, and the caller prepares on the host
+  /// and calls grow(). Precondition: the hull has at least three sites, not all collinear.
   virtual std::optional<InputGrowResult> grow_from_input(const InputGrowInput&) { return std::nullopt; }
   /// Whether grow_from_input may take this layout (the pipeline then scans the input and finds
   /// its hull for it, instead of preparing the sites).
