@@ -15,6 +15,7 @@
 //   exact loop:  a candidate the filters could not decide: exact predicates and CGAL's
 //                perturbation (rare), then back into the scan after it.
 // A search ends when the best candidate's region lies inside the cells visited.
+#include "predicates/apex_filter.hpp"
 #include "star_walk.cuh"
 
 namespace expanse::detail::cuda {
@@ -208,10 +209,13 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   // filters cannot tell. Straight-line: no branch that differs by search phase.
   auto judge = [&](int ip, double2& p, double& d2) {
     p = load_site(g.points, ip);
-    const double dx = ex::sub(p.x, ps.x), dy = ex::sub(p.y, ps.y);
-    d2 = ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
-    const int o = ex::orient2d_filter(pa.x, pa.y, pb.x, pb.y, p.x, p.y);
-    const int ic = ex::incircle_filter(pa.x, pa.y, pb.x, pb.y, best_p.x, best_p.y, p.x, p.y);
+    // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
+    // formed here rather than kept: registers cost this kernel more than the few operations.
+    const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
+    const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
+    d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
+    const int o = ex::apex_orient_filter(ex::apex_lift(edge, q));
+    const int ic = ex::apex_incircle_filter(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;

@@ -167,10 +167,14 @@ void main() {
   // The edge searched, a->b (for the nearest neighbour: a = b = s).
   int ia = s, ib = s;
   dvec2 pa = ps, pb = ps;
-  // Best candidate so far.
+  // The edge in its own frame (B = b - a, |B|^2), for the apex filters.
+  precise dvec2 edge = dvec2(0.0lf);
+  precise double edge2 = 0.0lf;
+  // Best candidate so far, and its lift (what later candidates are tested against).
   int best = -1;
   dvec2 best_p = ps;
   double best_d2 = 0.0lf;
+  ApexLift best_lift = ApexLift(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
   // Boxes: visited (done), target (being scanned: target minus visited, row segment by row
   // segment; segment `part` 0 is left of the visited box or the whole row, 1 right of it).
   ivec2 vlo = ivec2(NONE_BELOW), vhi = ivec2(-NONE_BELOW);
@@ -215,10 +219,11 @@ void main() {
           if (--budget < 0) break;
           int ip = slot;  // sites are stored sorted by cell
           dvec2 p = site_at(ip);
-          precise dvec2 d = p - ps;
-          precise double d2 = d.x * d.x + d.y * d.y;
-          int o = orient2d_filter(pa, pb, p);
-          int ic = incircle_filter(pa, pb, best_p, p);
+          dvec3 q = apex_point(pa, p);  // in the nearest-neighbour search a = s: q.z = |p - s|^2
+          ApexLift lift = apex_lift(edge, edge2, q);
+          int o = apex_orient_filter(lift);
+          int ic = apex_incircle_filter(best_lift, q);
+          double d2 = q.z;
           // 0: reject, 1: better than the best, 2: the filters cannot tell. A restart may
           // visit best again; a, b (or s) are never candidates.
           int verdict = phase == PHASE_NEAREST
@@ -230,6 +235,7 @@ void main() {
           best = better ? ip : best;
           best_p = better ? p : best_p;
           best_d2 = better ? d2 : best_d2;
+          if (better) best_lift = lift;
           // Leave to decide exactly, or, when a large box was planned from a worse
           // candidate's region, to plan again.
           if (verdict == 2 || (better && big_scan)) {
@@ -327,6 +333,8 @@ void main() {
       ib = phase == PHASE_CCW ? v : s;
       pa = phase == PHASE_CCW ? ps : pv;
       pb = phase == PHASE_CCW ? pv : ps;
+      edge = pb - pa;
+      edge2 = edge.x * edge.x + edge.y * edge.y;
       best = -1;
       vlo = ivec2(NONE_BELOW);
       vhi = ivec2(-NONE_BELOW);
@@ -366,10 +374,11 @@ void main() {
       break;
     }
     if (verdict == 1) {
-      precise dvec2 d = p - ps;
+      dvec3 q = apex_point(pa, p);
       best = ip;
       best_p = p;
-      best_d2 = d.x * d.x + d.y * d.y;
+      best_d2 = q.z;
+      best_lift = apex_lift(edge, edge2, q);
     }
     slot = ip + 1;
     pending = -1;

@@ -51,6 +51,59 @@ int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   return UNCERTAIN;
 }
 
+// The apex filters in the edge's frame (engine/src/predicates/apex_filter.hpp, where their
+// error bounds are argued), transcribed operation for operation and with the host's underflow
+// rule (a bound widened by 2^-98, trusted only where the losses fit in it), so that both
+// decide the same signs. Precondition: |coordinates| < 1, as the scaled sites.
+const double WIDENING = 3.1554436208840472e-30lf;  // 2^-98
+const double ORIENT_FILTER_BOUND = ORIENT_BOUND + WIDENING;
+const double INCIRCLE_FILTER_BOUND = INCIRCLE_BOUND + WIDENING;
+
+struct ApexLift {
+  double k, vx, vy, k_perm, vx_perm, vy_perm;
+};
+
+int sign_beyond(double det, double bound) {
+  return det > bound ? 1 : (-det > bound ? -1 : UNCERTAIN);
+}
+
+// P = p - a and |P|^2.
+dvec3 apex_point(dvec2 a, dvec2 p) {
+  precise dvec2 q = p - a;
+  precise double d2 = q.x * q.x + q.y * q.y;
+  return dvec3(q, d2);
+}
+
+// p's lift against the edge a->b, given B = b - a and |B|^2.
+ApexLift apex_lift(dvec2 edge, double b2, dvec3 p) {
+  precise double k_left = edge.x * p.y, k_right = edge.y * p.x;
+  precise double vx_left = b2 * p.y, vx_right = edge.y * p.z;
+  precise double vy_left = edge.x * p.z, vy_right = b2 * p.x;
+  precise double k = k_left - k_right;
+  precise double vx = vx_left - vx_right;
+  precise double vy = vy_left - vy_right;
+  precise double k_perm = mag(k_left) + mag(k_right);
+  precise double vx_perm = mag(vx_left) + mag(vx_right);
+  precise double vy_perm = mag(vy_left) + mag(vy_right);
+  return ApexLift(k, vx, vy, k_perm, vx_perm, vy_perm);
+}
+
+int apex_orient_filter(ApexLift p) {
+  precise double bound = ORIENT_FILTER_BOUND * p.k_perm;
+  return p.k_perm >= 6.26302612502804e-294lf ? sign_beyond(p.k, bound) : UNCERTAIN;  // 2^-974
+}
+
+// Sign of incircle(a, b, c, p), c the candidate whose lift is `c`.
+int apex_incircle_filter(ApexLift c, dvec3 p) {
+  precise double ax = mag(p.x), ay = mag(p.y);
+  precise double det = (p.x * c.vx + p.y * c.vy) - p.z * c.k;
+  precise double permanent = (ax * c.vx_perm + ay * c.vy_perm) + p.z * c.k_perm;
+  precise double losses_scale = (ax + ay) + ((p.z + c.k_perm) + 1.0lf);
+  precise double bound = INCIRCLE_FILTER_BOUND * permanent;
+  bool trusted = losses_scale * 2.004168360008973e-292lf <= permanent;  // 2^-969
+  return trusted ? sign_beyond(det, bound) : UNCERTAIN;
+}
+
 bool in_safe_range(double v) {
   double m = mag(v);
   // [2^-200, 2^200]

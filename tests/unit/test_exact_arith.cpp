@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include <catch2/catch.hpp>
 #include <gmpxx.h>
 
+#include "predicates/apex_filter.hpp"
 #include "predicates/exact_arith.hpp"
 #include "predicates/predicates.hpp"
 
@@ -192,6 +194,73 @@ TEST_CASE("filters are never wrong when they decide", "[exact]") {
   const double huge = std::numeric_limits<double>::max();
   CHECK(exact::orient2d_filter(huge, 0, -huge, 1, 0, -huge) == exact::uncertain);
   CHECK(exact::incircle_filter(1e200, 0, 0, 1e200, -1e200, 0, 0, 0) == exact::uncertain);
+}
+
+TEST_CASE("the apex filters in the edge's frame are never wrong when they decide", "[exact]") {
+  // Their precondition: |coordinates| < 1, as the backends' scaled sites.
+  long decided = 0, total = 0;
+  auto check = [&](const double* p) {  // a, b, c, d
+    const exact::ApexEdge edge = exact::apex_edge(p[0], p[1], p[2], p[3]);
+    const exact::ApexPoint c = exact::apex_point(edge, p[4], p[5]);
+    const exact::ApexPoint d = exact::apex_point(edge, p[6], p[7]);
+    const exact::ApexLift c_lift = exact::apex_lift(edge, c);
+    const int orient_c = exact::apex_orient_filter(c_lift);
+    if (orient_c != exact::uncertain) REQUIRE(orient_c == reference_orient2d(p[0], p[1], p[2], p[3], p[4], p[5]));
+    const int orient_d = exact::apex_orient_filter(exact::apex_lift(edge, d));
+    if (orient_d != exact::uncertain) REQUIRE(orient_d == reference_orient2d(p[0], p[1], p[2], p[3], p[6], p[7]));
+    const int incircle = exact::apex_incircle_filter(c_lift, d);
+    if (incircle != exact::uncertain) REQUIRE(incircle == reference_incircle(p));
+    // The squared distance to a, which the nearest-neighbour search compares.
+    REQUIRE(d.d2 == (p[6] - p[0]) * (p[6] - p[0]) + (p[7] - p[1]) * (p[7] - p[1]));
+    decided += (incircle != exact::uncertain) + (orient_c != exact::uncertain);
+    total += 2;
+  };
+  long random_decided = 0;
+  for (int family = 0; family < 7; ++family) {
+    for (int i = 0; i < 5000; ++i) {
+      double p[8];
+      switch (family) {
+        case 0:  // random
+          for (double& v : p) v = uniform(-0.99, 0.99);
+          break;
+        case 1: {  // near-cocircular
+          const double cx = uniform(-0.4, 0.4), cy = uniform(-0.4, 0.4), r = uniform(0.05, 0.5);
+          for (int k = 0; k < 4; ++k) {
+            const double angle = uniform(0, 6.3);
+            p[2 * k] = nudged(cx + r * std::cos(angle));
+            p[2 * k + 1] = nudged(cy + r * std::sin(angle));
+          }
+          break;
+        }
+        case 2:  // small integers, scaled: exact ties
+          for (double& v : p) v = integer(-5, 5) * 0x1p-3;
+          break;
+        case 3:  // a tiny cluster away from the origin
+          for (double& v : p) v = nudged(0.5 + uniform(-1e-9, 1e-9));
+          break;
+        case 4: {  // d nudged onto the line ab, c anywhere
+          for (int k = 0; k < 6; ++k) p[k] = uniform(-0.9, 0.9);
+          const double t = uniform(-0.05, 1.05);
+          p[6] = nudged(p[0] + t * (p[2] - p[0]));
+          p[7] = nudged(p[1] + t * (p[3] - p[1]));
+          std::swap(p[4], p[6]);  // and also as c
+          std::swap(p[5], p[7]);
+          break;
+        }
+        case 5:  // products underflow
+          for (double& v : p) v = integer(-6, 6) * 0x1p-1074;
+          break;
+        default:  // the smallest sites the backends send (2^-200), and their neighbours
+          for (double& v : p) v = random_double(-205, -195);
+          break;
+      }
+      check(p);
+      if (family == 0) random_decided = decided;
+    }
+  }
+  // Random inputs are almost always decided.
+  CHECK(random_decided > 5000 * 2 * 99 / 100);
+  CHECK(decided < total);  // the adversarial families reach `uncertain`
 }
 
 TEST_CASE("the exactness certificate decides integer inputs and is never wrong", "[exact]") {

@@ -9,6 +9,7 @@
 
 #include "backends/vulkan/vulkan_backend.hpp"
 #include "harness.hpp"
+#include "predicates/apex_filter.hpp"
 #include "predicates/exact_arith.hpp"
 #include "predicates/predicates.hpp"
 
@@ -81,10 +82,10 @@ void test_predicates() {
   std::vector<double> eft;
   detail::vk::run_predicate_kernel(*context, flat, signs, eft);
 
-  long orient_uncertain = 0, incircle_uncertain = 0, perturbed_checked = 0;
+  long orient_uncertain = 0, incircle_uncertain = 0, apex_uncertain = 0, perturbed_checked = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
-    const std::int32_t* s = &signs[8 * i];
+    const std::int32_t* s = &signs[detail::vk::kPredicateSigns * i];
     namespace ex = detail::exact;
     const int host_of = ex::orient2d_filter(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);
     const int host_oc = ex::orient2d_certified(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);
@@ -103,6 +104,20 @@ void test_predicates() {
                   host_ic);
     VK_CHECK_THAT(s[5] == uncertain || s[5] == exact_i, "case %zu: incircle device %d exact %d", i,
                   s[5], exact_i);
+    // The apex filters in a->b's frame: the host's decisions, and exact where they decide.
+    const auto edge = ex::apex_edge(c.a.x, c.a.y, c.b.x, c.b.y);
+    const auto c_lift = ex::apex_lift(edge, ex::apex_point(edge, c.c.x, c.c.y));
+    const auto d_point = ex::apex_point(edge, c.d.x, c.d.y);
+    const int host_apex[] = {ex::apex_orient_filter(c_lift), ex::apex_orient_filter(ex::apex_lift(edge, d_point)),
+                             ex::apex_incircle_filter(c_lift, d_point)};
+    const int exact_apex[] = {exact_o, detail::orient2d_exact(c.a, c.b, c.d), exact_i};
+    for (int k = 0; k < 3; ++k) {
+      VK_CHECK_THAT(s[7 + k] == host_apex[k], "case %zu: apex filter %d device %d host %d", i, k, s[7 + k],
+                    host_apex[k]);
+      VK_CHECK_THAT(s[7 + k] == uncertain || s[7 + k] == exact_apex[k], "case %zu: apex filter %d device %d exact %d",
+                    i, k, s[7 + k], exact_apex[k]);
+      apex_uncertain += s[7 + k] == uncertain;
+    }
     orient_uncertain += s[2] == uncertain;
     incircle_uncertain += s[5] == uncertain;
     if (s[2] == 1 && s[6] != uncertain) {
@@ -114,11 +129,11 @@ void test_predicates() {
                       host_p);
     }
   }
-  std::printf("predicates: %zu cases, device undecided: orient %ld, incircle %ld; perturbed "
-              "compared %ld\n",
-              cases.size(), orient_uncertain, incircle_uncertain, perturbed_checked);
+  std::printf("predicates: %zu cases, device undecided: orient %ld, incircle %ld, apex filters %ld; "
+              "perturbed compared %ld\n",
+              cases.size(), orient_uncertain, incircle_uncertain, apex_uncertain, perturbed_checked);
   // The near-degenerate families must exercise the "uncertain" answer, or this test is weak.
-  VK_CHECK_THAT(orient_uncertain > 0 && incircle_uncertain > 0, "no undecided cases generated");
+  VK_CHECK_THAT(orient_uncertain > 0 && incircle_uncertain > 0 && apex_uncertain > 0, "no undecided cases generated");
 }
 
 void test_eft() {

@@ -1165,11 +1165,11 @@ void run_predicate_kernel(Context& ctx, std::span<const double> cases,
                           std::vector<std::int32_t>& signs, std::vector<double>& eft) {
   std::lock_guard lock(ctx.mutex());
   const std::size_t count = cases.size() / 8;
-  signs.assign(count * 8, 0);
+  signs.assign(count * kPredicateSigns, 0);
   eft.assign(count * 4, 0.0);
   if (count == 0) return;
   Buffer in(ctx, cases.size_bytes(), false);
-  Buffer out_signs(ctx, bytes_of(count * 8, 4), false);
+  Buffer out_signs(ctx, bytes_of(count * kPredicateSigns, 4), false);
   Buffer out_eft(ctx, bytes_of(count * 4, 8), false);
   Buffer upload(ctx, cases.size_bytes(), true);
   Buffer download(ctx, out_signs.size() + out_eft.size(), true);

@@ -1,0 +1,86 @@
+#pragma once
+// The floating-point filters of an apex search, in the frame of its edge. A search for the apex
+// of a->b tests many candidates p against one edge and one best candidate c at a time; shifted
+// to a (B = b - a, C = c - a, P = p - a), its two predicates are
+//   orient2d(a, b, p)    = Bx Py - By Px
+//   incircle(a, b, c, p) = (Px Vx + Py Vy) - |P|^2 K,  K = Bx Cy - By Cx,
+//                          Vx = |B|^2 Cy - By |C|^2,   Vy = Bx |C|^2 - |B|^2 Cx
+// (the lifted 3x3 determinant expanded along p's row). K and V are c's "lift": formed once, when
+// c is tested as a candidate (K is its orient2d value), and kept while c is the best. A candidate
+// then costs about half the arithmetic of orient2d_filter and incircle_filter together, and
+// the same decisions up to `uncertain`: a sign returned is the exact sign, and what the filter
+// cannot decide goes to the same exact procedures as before (with the original points).
+//
+// Error bounds. Every leaf (a coordinate difference) is rounded once; the longest path from a
+// leaf to the result (a coordinate of C through |C|^2, By |C|^2, Vx, Px Vx and the two sums) has
+// 8 roundings, so |computed - exact| <= gamma_8 * permanent, the permanent being the same
+// expression over magnitudes (|Px| Vx_perm + |Py| Vy_perm + |P|^2 K_perm). With the permanent's
+// own rounding (degree 4, depth 7) that stays below 8.01 eps * permanent, inside Shewchuk's
+// incircle bound (10 eps), which this filter reuses; orient2d's form is Shewchuk's exactly.
+// Underflow is handled as exact_arith.hpp's filters do (widened bound, `trusted` where the
+// absolute losses provably fit in the widening); the loss count assumes |coordinates| < 1,
+// which the backends' scaled sites satisfy (SiteSet), so differences are below 2.
+#include "predicates/exact_arith.hpp"
+
+namespace expanse::detail::exact {
+
+/// The edge a->b of an apex search: a, and B = b - a with |B|^2.
+struct ApexEdge {
+  double ax, ay, bx, by, b2;
+};
+
+/// A candidate's lift against its edge, and the magnitudes its error bound needs.
+struct ApexLift {
+  double k = 0.0, vx = 0.0, vy = 0.0;
+  double k_perm = 0.0, vx_perm = 0.0, vy_perm = 0.0;
+};
+
+/// One candidate in the edge's frame: P = p - a and |P|^2 (the squared distance to a).
+struct ApexPoint {
+  double x, y, d2;
+};
+
+EXPANSE_HD inline ApexEdge apex_edge(double ax, double ay, double bx, double by) {
+  const double ex = sub(bx, ax), ey = sub(by, ay);
+  return {ax, ay, ex, ey, add(mul(ex, ex), mul(ey, ey))};
+}
+
+EXPANSE_HD inline ApexPoint apex_point(const ApexEdge& e, double px, double py) {
+  const double x = sub(px, e.ax), y = sub(py, e.ay);
+  return {x, y, add(mul(x, x), mul(y, y))};
+}
+
+/// p's lift: what later candidates are tested against once p is the best.
+EXPANSE_HD inline ApexLift apex_lift(const ApexEdge& e, const ApexPoint& p) {
+  const double k_left = mul(e.bx, p.y), k_right = mul(e.by, p.x);
+  const double vx_left = mul(e.b2, p.y), vx_right = mul(e.by, p.d2);
+  const double vy_left = mul(e.bx, p.d2), vy_right = mul(e.b2, p.x);
+  return {sub(k_left, k_right),
+          sub(vx_left, vx_right),
+          sub(vy_left, vy_right),
+          add(magnitude(k_left), magnitude(k_right)),
+          add(magnitude(vx_left), magnitude(vx_right)),
+          add(magnitude(vy_left), magnitude(vy_right))};
+}
+
+/// Sign of orient2d(a, b, p) from p's lift (its K), or `uncertain`; as orient2d_filter.
+EXPANSE_HD inline int apex_orient_filter(const ApexLift& p) {
+  const bool trusted = p.k_perm >= 0x1p-974;
+  const int sign = sign_beyond(p.k, mul(orient2d_filter_bound, p.k_perm));
+  return trusted ? sign : uncertain;
+}
+
+/// Sign of incircle(a, b, c, p) for the candidate c whose lift is `c`, or `uncertain`.
+EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p) {
+  const double ax = magnitude(p.x), ay = magnitude(p.y);
+  const double det = sub(add(mul(p.x, c.vx), mul(p.y, c.vy)), mul(p.d2, c.k));
+  const double permanent = add(add(mul(ax, c.vx_perm), mul(ay, c.vy_perm)), mul(p.d2, c.k_perm));
+  // Underflow losses (differences below 2): |C|^2's and |B|^2's through V and then |Px|, |Py|
+  // (2^-1071 each), K's products through |P|^2, |P|^2's through K, the last three products.
+  const double losses_scale = add(add(ax, ay), add(add(p.d2, c.k_perm), 1.0));
+  const bool trusted = mul(losses_scale, 0x1p-969) <= permanent;
+  const int sign = sign_beyond(det, mul(incircle_filter_bound, permanent));
+  return trusted ? sign : uncertain;
+}
+
+}  // namespace expanse::detail::exact
