@@ -6,6 +6,10 @@
 # the tool carries at most 64 MiB.
 #
 #   bash bench/device/bundle.sh [BUILD_DIR]     (default: build-device)
+#
+# EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda and expanse-bench (a build of the commit a
+# change is measured against, same libraries) as baseline/: run-on-device.sh's `compare` step
+# runs both builds alternately in one call.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$(realpath "${1:-$root/build-device}")"
@@ -28,6 +32,11 @@ if [[ -f $layer && -f $manifest ]]; then
   # A relative library_path is read relative to the manifest.
   sed 's|"library_path": *"[^"]*"|"library_path": "./libVkLayer_khronos_validation.so"|' \
     "$manifest" >.devrun/layers/VkLayer_khronos_validation.json
+fi
+if [[ -n ${EXPANSE_BASELINE:-} ]]; then
+  mkdir -p .devrun/baseline
+  cp "$EXPANSE_BASELINE/expanse_bench_cuda" "$EXPANSE_BASELINE/expanse-bench" .devrun/baseline/
+  cp "$EXPANSE_BASELINE/COMMIT" .devrun/baseline/ 2>/dev/null || echo "unknown" >.devrun/baseline/COMMIT
 fi
 git describe --always --dirty --abbrev=12 >.devrun/COMMIT
 tar -C .devrun -cf - --exclude=bundle.tar.xz . | xz -T2 -6 >.devrun.tar.xz

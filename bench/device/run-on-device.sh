@@ -21,6 +21,8 @@
 #                repetition, as `figures`), then Vulkan alone with its star loop budget at 65536
 #                and 262144 (default 20000): deferred sites and seam time against star time
 #                                                  -> results/vulkan-4096.jsonl, printed
+#   compare      this build against the bundle's baseline/ (bundle.sh, EXPANSE_BASELINE),
+#                alternated: star kernel and GPU-only     -> compare.jsonl (log: compare.log)
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
 # EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
@@ -77,6 +79,41 @@ for what in "$@"; do
         --sizes ${EXPANSE_BENCH_SIZES:-512,1024,2048,4096} \
         --dists ${EXPANSE_BENCH_DISTS:-uniform,gaussian,grid,kuzmin} \
         --reps ${EXPANSE_BENCH_REPS:-5} > $out/bench-cuda$tag.jsonl" ;;
+    compare)
+      # This build against bundle.sh's baseline/, alternated EXPANSE_COMPARE_ROUNDS times (default
+      # 2) so that drift on the host shows as a difference between rounds, not between builds:
+      # star kernel and GPU-only (backend on host-prepared sites) -> compare.jsonl; and the Vulkan
+      # backend on NVIDIA's driver at 4096^2 uniform (expanse-bench)  -> compare-vulkan.jsonl.
+      [[ -d $bin/baseline ]] || { echo "compare: no baseline/ in the bundle" >&2; exit 2; }
+      parts="$out/compare-parts"
+      mkdir -p "$parts"
+      for round in $(seq "${EXPANSE_COMPARE_ROUNDS:-2}"); do
+        for build in baseline current; do
+          dir=$bin; [[ $build == baseline ]] && dir=$bin/baseline
+          step "compare $build $round" 240 "$out/compare.log" sh -c "$dir/expanse_bench_cuda \
+            --sizes ${EXPANSE_BENCH_SIZES:-512,4096} --dists ${EXPANSE_BENCH_DISTS:-uniform,gaussian,grid,kuzmin} \
+            --reps ${EXPANSE_BENCH_REPS:-5} --no-pipeline > $parts/$build-$round.jsonl"
+          EXPANSE_COMMIT="$(cat "$dir/COMMIT" 2>/dev/null || echo "$commit")" \
+            step "compare vulkan $build $round" 120 "$out/compare.log" "$dir/expanse-bench" --backends vulkan \
+            --dist uniform -n 4096^2 -r 3 --warmup 1 --note "compare: $build, round $round" -o "$out/compare-vulkan.jsonl"
+        done
+      done
+      python3 - "$parts" "$out/compare.jsonl" "$(cat "$bin/baseline/COMMIT")" "$commit" <<'PY'
+import glob, json, os, sys
+parts, merged, commits = sys.argv[1], sys.argv[2], {"baseline": sys.argv[3], "current": sys.argv[4]}
+with open(merged, "w") as out:
+    for path in sorted(glob.glob(os.path.join(parts, "*.jsonl"))):
+        build, round_ = os.path.basename(path)[:-6].split("-")
+        for line in open(path):
+            r = json.loads(line)
+            r.update(build=build, round=int(round_), commit=commits[build])
+            out.write(json.dumps(r) + "\n")
+            if "error" in r:
+                print(build, round_, r["distribution"], r["side"], "error:", r["error"]); continue
+            print(f"{build:9} {round_} {r['distribution']:9} {r['side']:5} gpu {r['gpu_ms']:8.2f}"
+                  f"  stars {r['device_stages_ms'].get('stars', 0):8.2f}  deferred {r['deferred']}")
+PY
+      rm -rf "$parts" ;;
     figures)
       mkdir -p "$out/results"
       bench="$bin/expanse-bench"
