@@ -170,11 +170,10 @@ void main() {
   // The edge in its own frame (B = b - a, |B|^2), for the apex filters.
   precise dvec2 edge = dvec2(0.0lf);
   precise double edge2 = 0.0lf;
-  // Best candidate so far, and its lift (what later candidates are tested against).
+  // Best candidate so far.
   int best = -1;
   dvec2 best_p = ps;
   double best_d2 = 0.0lf;
-  ApexLift best_lift = ApexLift(0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf, 0.0lf);
   // Boxes: visited (done), target (being scanned: target minus visited, row segment by row
   // segment; segment `part` 0 is left of the visited box or the whole row, 1 right of it).
   ivec2 vlo = ivec2(NONE_BELOW), vhi = ivec2(-NONE_BELOW);
@@ -220,9 +219,11 @@ void main() {
           int ip = slot;  // sites are stored sorted by cell
           dvec2 p = site_at(ip);
           dvec3 q = apex_point(pa, p);  // in the nearest-neighbour search a = s: q.z = |p - s|^2
-          ApexLift lift = apex_lift(edge, edge2, q);
-          int o = apex_orient_filter(lift);
-          int ic = apex_incircle_filter(best_lift, q);
+          int o = apex_orient_filter(apex_lift(edge, edge2, q));
+          // The best's lift is formed again for each candidate: kept in the loop instead, its six
+          // doubles cost lavapipe more than the operations (1M uniform: star shader 722-735 ms
+          // formed again, 769-777 kept, 795-800 with the full filters; H100: 91 ms kept, 80 full).
+          int ic = apex_incircle_filter(apex_lift(edge, edge2, apex_point(pa, best_p)), q);
           double d2 = q.z;
           // 0: reject, 1: better than the best, 2: the filters cannot tell. A restart may
           // visit best again; a, b (or s) are never candidates.
@@ -235,7 +236,6 @@ void main() {
           best = better ? ip : best;
           best_p = better ? p : best_p;
           best_d2 = better ? d2 : best_d2;
-          if (better) best_lift = lift;
           // Leave to decide exactly, or, when a large box was planned from a worse
           // candidate's region, to plan again.
           if (verdict == 2 || (better && big_scan)) {
@@ -378,7 +378,6 @@ void main() {
       best = ip;
       best_p = p;
       best_d2 = q.z;
-      best_lift = apex_lift(edge, edge2, q);
     }
     slot = ip + 1;
     pending = -1;

@@ -123,7 +123,10 @@ void prefault_capacity(std::vector<T, A>& v) {
   const std::size_t bytes = (v.capacity() - v.size()) * sizeof(T);
   advise_huge_pages(begin, bytes);
   constexpr std::size_t page = 4096;
-  parallel_chunks(bytes / page, [&](std::size_t, std::size_t first, std::size_t last) {
+  // Chunks of at least 2 MiB (a huge page): with chunk_count's default of 2^16 items, 402 MB
+  // of pages made one chunk, and each vector was faulted in on one thread.
+  const std::size_t pages = bytes / page;
+  parallel_chunks(pages, chunk_count(pages, 512), [&](std::size_t, std::size_t first, std::size_t last) {
     if (populate_pages(begin + first * page, (last - first) * page)) return;
     for (std::size_t p = first; p < last; ++p) begin[p * page] = 0;
   });

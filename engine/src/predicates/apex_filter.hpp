@@ -5,11 +5,13 @@
 //   orient2d(a, b, p)    = Bx Py - By Px
 //   incircle(a, b, c, p) = (Px Vx + Py Vy) - |P|^2 K,  K = Bx Cy - By Cx,
 //                          Vx = |B|^2 Cy - By |C|^2,   Vy = Bx |C|^2 - |B|^2 Cx
-// (the lifted 3x3 determinant expanded along p's row). K and V are c's "lift": formed once, when
-// c is tested as a candidate (K is its orient2d value), and kept while c is the best. A candidate
-// then costs about half the arithmetic of orient2d_filter and incircle_filter together, and
-// the same decisions up to `uncertain`: a sign returned is the exact sign, and what the filter
-// cannot decide goes to the same exact procedures as before (with the original points).
+// (the lifted 3x3 determinant expanded along p's row). K and V are c's "lift" (K is orient2d's
+// value for c). A candidate costs about half the arithmetic of orient2d_filter and
+// incircle_filter together, the best's lift included: the star kernels form it again for each
+// candidate, since keeping its six doubles live in the loop cost more than it saved (lavapipe
+// and the H100 both). The decisions are the same up to `uncertain`: a sign returned is the
+// exact sign, and what the filter cannot decide goes to the same exact procedures as before
+// (with the original points).
 //
 // Error bounds. Every leaf (a coordinate difference) is rounded once; the longest path from a
 // leaf to the result (a coordinate of C through |C|^2, By |C|^2, Vx, Px Vx and the two sums) has
