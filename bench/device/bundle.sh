@@ -23,7 +23,8 @@ mkdir -p .devrun
   "$build/tests/vulkan/expanse_vulkan_tests" \
   "$build/cuda_backend/expanse_bench_cuda" \
   "$build/bench/expanse-bench" \
-  "$build/bench/expanse-bench-host-stages" >/dev/null
+  "$build/bench/expanse-bench-host-stages" \
+  "$build/bench/expanse-bench-page-faults" >/dev/null
 layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
 manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
 if [[ -f $layer && -f $manifest ]]; then

@@ -23,6 +23,8 @@
 #                                                  -> results/vulkan-4096.jsonl, printed
 #   compare      this build against the bundle's baseline/ (bundle.sh, EXPANSE_BASELINE),
 #                alternated: star kernel and GPU-only     -> compare.jsonl (log: compare.log)
+#   page-faults  expanse-bench-page-faults: faulting in 805 MB by thread count, huge pages or not
+#                                                  -> page-faults.jsonl, printed
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
 # EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
@@ -82,17 +84,20 @@ for what in "$@"; do
     compare)
       # This build against bundle.sh's baseline/, alternated EXPANSE_COMPARE_ROUNDS times (default
       # 2) so that drift on the host shows as a difference between rounds, not between builds:
-      # star kernel and GPU-only (backend on host-prepared sites) -> compare.jsonl; and the Vulkan
+      # star kernel and GPU-only (backend on host-prepared sites; with EXPANSE_COMPARE_PIPELINE=1
+      # the pipeline's host-to-host times as well)                -> compare.jsonl; and the Vulkan
       # backend on NVIDIA's driver at 4096^2 uniform (expanse-bench)  -> compare-vulkan.jsonl.
       [[ -d $bin/baseline ]] || { echo "compare: no baseline/ in the bundle" >&2; exit 2; }
       parts="$out/compare-parts"
+      only_backend=--no-pipeline
+      [[ -n ${EXPANSE_COMPARE_PIPELINE:-} ]] && only_backend=
       mkdir -p "$parts"
       for round in $(seq "${EXPANSE_COMPARE_ROUNDS:-2}"); do
         for build in baseline current; do
           dir=$bin; [[ $build == baseline ]] && dir=$bin/baseline
           step "compare $build $round" 240 "$out/compare.log" sh -c "$dir/expanse_bench_cuda \
             --sizes ${EXPANSE_BENCH_SIZES:-512,4096} --dists ${EXPANSE_BENCH_DISTS:-uniform,gaussian,grid,kuzmin} \
-            --reps ${EXPANSE_BENCH_REPS:-5} --no-pipeline > $parts/$build-$round.jsonl"
+            --reps ${EXPANSE_BENCH_REPS:-5} $only_backend > $parts/$build-$round.jsonl"
           EXPANSE_COMMIT="$(cat "$dir/COMMIT" 2>/dev/null || echo "$commit")" \
             step "compare vulkan $build $round" 120 "$out/compare.log" "$dir/expanse-bench" --backends vulkan \
             --dist uniform -n 4096^2 -r 3 --warmup 1 --note "compare: $build, round $round" -o "$out/compare-vulkan.jsonl"
@@ -111,9 +116,22 @@ with open(merged, "w") as out:
             if "error" in r:
                 print(build, round_, r["distribution"], r["side"], "error:", r["error"]); continue
             print(f"{build:9} {round_} {r['distribution']:9} {r['side']:5} gpu {r['gpu_ms']:8.2f}"
-                  f"  stars {r['device_stages_ms'].get('stars', 0):8.2f}  deferred {r['deferred']}")
+                  f"  stars {r['device_stages_ms'].get('stars', 0):8.2f}  deferred {r['deferred']}"
+                  + (f"  h2h {r['host_to_host_ms']:7.1f}  reused {r['host_to_host_reused_ms']:7.1f}"
+                     if "host_to_host_ms" in r else ""))
 PY
       rm -rf "$parts" ;;
+    page-faults)
+      step "page faults" 120 "$out/page-faults.log" sh -c "$bin/expanse-bench-page-faults --mib 805 \
+        --threads 1,2,4,8,16 --reps 5 > $out/page-faults.jsonl"
+      python3 - "$out/page-faults.jsonl" <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    print(f"page faults {r['variant']:8} threads {r['threads']:2} huge {r['huge_pages']:2}: "
+          f"{r['median_ms']:7.1f} ms  {r['gb_per_s']:5.1f} GB/s")
+PY
+      ;;
     figures)
       mkdir -p "$out/results"
       bench="$bin/expanse-bench"
