@@ -33,6 +33,11 @@ layout(constant_id = 1) const int STAR_CAPACITY = 16;
 // Loop iterations one invocation may spend before deferring its site. On lavapipe the backend
 // keeps 8 lanes x budget under its cap of 65535 back-edges per batch (see the canary below).
 layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
+// The candidate loop's filters: in the edge's frame (predicates.glsl's apex filters, about half
+// the arithmetic: lavapipe's star shader -7% at 1M uniform), or orient2d_filter and
+// incircle_filter on the points (the H100's driver: 80 ms against 85 with the apex filters at
+// 4096^2). Both decide the same signs or none; the exact path is the same.
+layout(constant_id = 3) const bool APEX_FILTERS = true;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -219,11 +224,12 @@ void main() {
           int ip = slot;  // sites are stored sorted by cell
           dvec2 p = site_at(ip);
           dvec3 q = apex_point(pa, p);  // in the nearest-neighbour search a = s: q.z = |p - s|^2
-          int o = apex_orient_filter(apex_lift(edge, edge2, q));
           // The best's lift is formed again for each candidate: kept in the loop instead, its six
           // doubles cost lavapipe more than the operations (1M uniform: star shader 722-735 ms
-          // formed again, 769-777 kept, 795-800 with the full filters; H100: 91 ms kept, 80 full).
-          int ic = apex_incircle_filter(apex_lift(edge, edge2, apex_point(pa, best_p)), q);
+          // formed again, 769-777 kept, 795-800 with the full filters; H100: 91 ms kept).
+          int o = APEX_FILTERS ? apex_orient_filter(apex_lift(edge, edge2, q)) : orient2d_filter(pa, pb, p);
+          int ic = APEX_FILTERS ? apex_incircle_filter(apex_lift(edge, edge2, apex_point(pa, best_p)), q)
+                                : incircle_filter(pa, pb, best_p, p);
           double d2 = q.z;
           // 0: reject, 1: better than the best, 2: the filters cannot tell. A restart may
           // visit best again; a, b (or s) are never candidates.

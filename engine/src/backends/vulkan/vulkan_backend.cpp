@@ -374,6 +374,14 @@ class VulkanBackend final : public Backend {
     return star ? 20000u : 1000000000u;
   }
 
+  // star.comp's APEX_FILTERS: the filters in the edge's frame on CPU devices (lavapipe: star
+  // shader -7% at 1M uniform), the filters on the points elsewhere (the H100's driver: +6% with
+  // the apex filters). EXPANSE_VULKAN_APEX_FILTERS=0/1 overrides, for experiments.
+  std::uint32_t apex_filters() const {
+    if (const char* env = std::getenv("EXPANSE_VULKAN_APEX_FILTERS")) return std::atoi(env) != 0;
+    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  }
+
   std::uint32_t workgroup(std::uint32_t wanted) const {
     const auto& limits = context_->limits();
     return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
@@ -649,7 +657,7 @@ class VulkanBackend final : public Backend {
       device_sorted = at[crowded_cell_counter] == 0;
     }
 
-    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true)};
+    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters()};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage};
