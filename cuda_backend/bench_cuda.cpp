@@ -13,6 +13,12 @@
 //                    (EXPANSE_CUDA_PREPARE=host), as before the device prepared them
 //   backend_ms       Backend::grow() alone: prepared sites -> triangles + neighbours in vectors
 //   gpu_ms           device stages without transfers (CUDA events)
+//
+//   expanse_bench_cuda --transfers [--reps 5]
+// instead times the transfers under a 4096^2 run, one JSON line each (median ms, GB/s): 805 MB
+// device -> host straight into pinned memory (the bus alone), and through the backend's pinned
+// staging into prefaulted pageable memory with 32 MiB (the default) and 64 MiB chunks; 268 MB
+// host -> device the same ways.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -28,6 +34,7 @@
 #include "expanse/generate.hpp"
 #include "expanse/triangulate.hpp"
 #include "hull/convex_hull.hpp"
+#include "input/parallel.hpp"
 #include "input/site_set.hpp"
 
 using namespace expanse;
@@ -53,6 +60,53 @@ double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+/// The --transfers probe (see the top of this file).
+int time_transfers(int reps) {
+  constexpr std::size_t down_bytes = std::size_t{805} << 20, up_bytes = std::size_t{268} << 20;
+  cudaStream_t stream;
+  EXPANSE_CUDA(cudaStreamCreate(&stream));
+  void* device = nullptr;
+  void* pinned = nullptr;
+  EXPANSE_CUDA(cudaMalloc(&device, down_bytes));
+  EXPANSE_CUDA(cudaMemset(device, 1, down_bytes));
+  EXPANSE_CUDA(cudaHostAlloc(&pinned, down_bytes, cudaHostAllocDefault));
+  std::memset(pinned, 2, down_bytes);
+  std::vector<unsigned char> pageable;
+  pageable.reserve(down_bytes);
+  prefault_capacity(pageable);
+  pageable.resize(down_bytes);
+  auto report = [&](const char* what, std::size_t bytes, auto&& run) {
+    std::vector<double> ms;
+    for (int r = 0; r <= reps; ++r) {
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+      const double t0 = now_ms();
+      run();
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+      if (r > 0) ms.push_back(now_ms() - t0);
+    }
+    const double m = median(ms);
+    std::printf("{\"transfer\": \"%s\", \"bytes\": %zu, \"median_ms\": %.3f, \"gb_per_s\": %.2f}\n", what, bytes, m,
+                double(bytes) / 1e6 / m);
+    std::fflush(stdout);
+  };
+  report("d2h pinned", down_bytes, [&] {
+    EXPANSE_CUDA(cudaMemcpyAsync(pinned, device, down_bytes, cudaMemcpyDeviceToHost, stream));
+  });
+  report("h2d pinned", up_bytes, [&] {
+    EXPANSE_CUDA(cudaMemcpyAsync(device, pinned, up_bytes, cudaMemcpyHostToDevice, stream));
+  });
+  for (const std::size_t chunk : {std::size_t{32} << 20, std::size_t{64} << 20}) {
+    cuda::PinnedStaging staging(chunk);
+    const std::string suffix = " staged " + std::to_string(chunk >> 20) + " MiB";
+    report(("d2h" + suffix).c_str(), down_bytes, [&] { staging.download(pageable.data(), device, down_bytes, stream); });
+    report(("h2d" + suffix).c_str(), up_bytes, [&] { staging.upload(device, pageable.data(), up_bytes, stream); });
+  }
+  EXPANSE_CUDA(cudaFreeHost(pinned));
+  EXPANSE_CUDA(cudaFree(device));
+  EXPANSE_CUDA(cudaStreamDestroy(stream));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -61,6 +115,7 @@ int main(int argc, char** argv) {
   int reps = 5;
   bool pipeline = true;
   bool paper = false;
+  bool transfers = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) sizes = split(argv[++i]);
@@ -68,8 +123,9 @@ int main(int argc, char** argv) {
     else if (a == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
     else if (a == "--no-pipeline") pipeline = false;
     else if (a == "--paper") paper = true;
+    else if (a == "--transfers") transfers = true;
     else {
-      std::fprintf(stderr, "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper] | --transfers\n", argv[0]);
       return 2;
     }
   }
@@ -80,6 +136,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "no CUDA backend: %s\n", e.what());
     return 77;
   }
+  if (transfers) return time_transfers(reps);
   Layout layout = paper ? Layout::paper() : Layout{};
   for (const auto& dist : dists) {
     for (const auto& side_text : sizes) {

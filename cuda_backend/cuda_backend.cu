@@ -14,11 +14,19 @@ namespace expanse::detail::cuda {
 
 namespace {
 
+/// Threads parallel_copy may use: 8, or $EXPANSE_CUDA_COPY_THREADS (for comparisons).
+std::size_t copy_threads() {
+  const char* env = std::getenv("EXPANSE_CUDA_COPY_THREADS");
+  const long wanted = env ? std::atol(env) : 0;
+  return wanted > 0 ? static_cast<std::size_t>(wanted) : 8;
+}
+
 /// memcpy spread over a few threads: one core copies ~10 GB/s, far below what PCIe delivers.
 void parallel_copy(void* dst, const void* src, std::size_t bytes) {
-  constexpr std::size_t per_thread_min = std::size_t{4} << 20;
+  constexpr std::size_t per_thread_min = std::size_t{2} << 20;
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t parts = std::min<std::size_t>({8, hw, std::max<std::size_t>(1, bytes / per_thread_min)});
+  const std::size_t parts =
+      std::min<std::size_t>({copy_threads(), hw, std::max<std::size_t>(1, bytes / per_thread_min)});
   if (parts <= 1) {
     std::memcpy(dst, src, bytes);
     return;

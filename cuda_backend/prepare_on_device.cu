@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstring>
 #include <future>
+#include <optional>
 #include <ranges>
 
 #include "cuda_internal.hpp"
@@ -169,7 +170,6 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   using clock = std::chrono::steady_clock;
   const cudaStream_t stream = ctx.stream;
   const std::size_t n = input.points.size();
-  const std::size_t h = input.hull.size();
   if (n >= (std::size_t{1} << 30)) return false;  // the host's path refuses it, with the error
   const Box& bounds = input.scan.bounds;
   // Raw, sorted and site points; codes twice; ids twice, the merge's three arrays, the sites'
@@ -191,15 +191,16 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   const auto host_start = clock::now();
   std::size_t m = 0;
   DeviceArray<double2> d_site_points(n, stream);
-  DeviceArray<int> d_site_input(n, stream), d_hull_sites(h, stream), d_representative(n, stream);
+  DeviceArray<int> d_site_input(n, stream), d_representative(n, stream);
+  std::optional<DeviceArray<int>> d_hull_sites;  // once the hull is known
+  std::size_t h = 0;
   clock::time_point host_uploaded;
+  double hull_wait_ms = 0.0;
   {
     DeviceArray<double2> d_raw(n, stream), d_sorted(n, stream);
-    DeviceArray<int> d_hull_input(h, stream);
     timer.begin("upload");
     static_assert(sizeof(Point2) == sizeof(double2));
     ctx.staging->upload(d_raw.get(), input.points.data(), n * sizeof(double2), stream);
-    ctx.staging->upload(d_hull_input.get(), input.hull.data(), h * sizeof(int), stream);
     timer.end();
     host_uploaded = clock::now();
 
@@ -282,13 +283,22 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                                                            d_site_points.get(), d_site_input.get(),
                                                            d_rank_input.get(), d_representative.get());
     EXPANSE_CUDA(cudaGetLastError());
-    hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(d_hull_input.get(), static_cast<int>(h),
-                                                              d_rank_input.get(), d_hull_sites.get());
-    EXPANSE_CUDA(cudaGetLastError());
     // How many sites: the last slot plus the last head.
     EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_slot.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
     EXPANSE_CUDA(cudaMemcpyAsync(&words[2], d_head.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
     timer.end();
+    // The hull, which the host has been finding meanwhile, in site ids.
+    const auto host_hull_wait = clock::now();
+    const std::vector<std::int32_t>* hull_input = input.hull();
+    hull_wait_ms = std::chrono::duration<double, std::milli>(clock::now() - host_hull_wait).count();
+    if (!hull_input) return false;  // collinear: the host's path handles it
+    h = hull_input->size();
+    DeviceArray<int> d_hull_input(h, stream);
+    d_hull_sites.emplace(h, stream);
+    ctx.staging->upload(d_hull_input.get(), hull_input->data(), h * sizeof(int), stream);
+    hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(d_hull_input.get(), static_cast<int>(h),
+                                                              d_rank_input.get(), d_hull_sites->get());
+    EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
     m = static_cast<std::size_t>(words[1]) + words[2];
   }
@@ -312,7 +322,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   const auto copy_to_host = [&, h, m, n](PinnedStaging& staging, cudaStream_t on) {
     const auto start = clock::now();
     EXPANSE_CUDA(cudaSetDevice(ctx.device));
-    staging.download(hull.sites.data(), d_hull_sites.get(), h * sizeof(int), on);
+    staging.download(hull.sites.data(), d_hull_sites->get(), h * sizeof(int), on);
     staging.download(sites.points.data(), d_site_points.get(), m * sizeof(double2), on);
     staging.download(sites.input_index.data(), d_site_input.get(), m * sizeof(int), on);
     identity.get();
@@ -333,7 +343,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   const auto host_prepared = clock::now();
 
   std::vector<StageTime> prepare_stages = timer.collect();
-  const SitesOnDevice on_device{d_site_points.get(), d_hull_sites.get()};
+  const SitesOnDevice on_device{d_site_points.get(), d_hull_sites->get()};
   grow_per_site(ctx, GrowInput{sites, hull, input.layout, input.recycled}, result.grown, &on_device);
   const auto host_grown = clock::now();
   if (copies.valid()) copies.get();
@@ -342,7 +352,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   auto& host = result.grown.host_stages;
   host.insert(host.begin(), {{"cuda upload of the input (host)", ms(host_start, host_uploaded)},
-                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_prepared)}});
+                             {"cuda wait for the host's hull", hull_wait_ms},
+                             {"cuda prepare on the device (host wait)", ms(host_uploaded, host_prepared) - hull_wait_ms}});
   host.push_back({alongside ? "cuda copy of the sites to the host (while the stars grow)"
                             : "cuda copy of the sites to the host (before the growth)",
                   copies_ms});

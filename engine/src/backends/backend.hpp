@@ -1,6 +1,7 @@
 #pragma once
 // Where the front grows. A Backend hides only the device (memory, dispatch); the pipeline owns
 // input preparation, seam completion and output conventions.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -42,7 +43,10 @@ struct GrowResult {
 struct InputGrowInput {
   std::span<const Point2> points;
   const InputScan& scan;                 ///< scan_input(points): finite, scale, box
-  std::span<const std::int32_t> hull;    ///< the hull in input indices (convex_hull_of_input)
+  /// The hull in input indices (convex_hull_of_input), which the host finds on another thread
+  /// while the device starts: call it when the hull is needed (it waits). nullptr: the input is
+  /// collinear or has fewer than three hull sites, and the backend must decline.
+  std::function<const std::vector<std::int32_t>*()> hull;
   const Layout& layout;
   PartialTriangulation* recycled = nullptr;  ///< as GrowInput::recycled
 };

@@ -1,6 +1,7 @@
 #include "expanse/triangulate.hpp"
 
 #include <chrono>
+#include <future>
 #include <optional>
 
 #include "grid/bucket_tree.hpp"
@@ -110,21 +111,31 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   std::optional<detail::Hull> prepared_hull;
   std::optional<detail::GrowResult> grown_on_device;
   if (points.size() >= 3 && backend.prepares_sites(options.layout)) {
-    // The device sorts and merges: the host validates, and finds the hull on the raw points
-    // (the device needs it before it starts).
+    // The device sorts and merges: the host validates, and finds the hull on the raw points on
+    // another thread while the device uploads and sorts them (it needs the hull after that).
     const detail::InputScan scan = timed(stats, "prepare (scan)", [&] { return detail::scan_input(points); });
-    const detail::InputHull input_hull =
-        timed(stats, "hull (input)", [&] { return detail::convex_hull_of_input(points, scan); });
-    if (!input_hull.collinear && input_hull.sites.size() >= 3) {
-      accept();
-      std::optional<detail::InputGrowResult> made = timed(stats, "grow", [&] {
-        return backend.grow_from_input({points, scan, input_hull.sites, options.layout, &recycled});
-      });
-      if (made) {
-        prepared.emplace(std::move(made->sites));
-        prepared_hull.emplace(std::move(made->hull));
-        grown_on_device.emplace(std::move(made->grown));
-      }
+    accept();
+    double hull_ms = 0.0;
+    std::future<detail::InputHull> hull_job = std::async(std::launch::async, [&] {
+      const auto hull_start = Clock::now();
+      detail::InputHull found = detail::convex_hull_of_input(points, scan);
+      hull_ms = ms_since(hull_start);
+      return found;
+    });
+    std::optional<detail::InputHull> input_hull;
+    const auto hull_sites = [&]() -> const std::vector<std::int32_t>* {
+      if (!input_hull) input_hull.emplace(hull_job.get());
+      return !input_hull->collinear && input_hull->sites.size() >= 3 ? &input_hull->sites : nullptr;
+    };
+    std::optional<detail::InputGrowResult> made = timed(stats, "grow", [&] {
+      return backend.grow_from_input({points, scan, hull_sites, options.layout, &recycled});
+    });
+    if (hull_job.valid()) hull_job.wait();  // declined before it needed the hull
+    stats.stages.push_back({"hull (input, while the device prepares)", hull_ms});
+    if (made) {
+      prepared.emplace(std::move(made->sites));
+      prepared_hull.emplace(std::move(made->hull));
+      grown_on_device.emplace(std::move(made->grown));
     }
   }
   if (!prepared) {
