@@ -18,7 +18,8 @@ namespace expanse::detail::cuda {
 /// of the caller's std::vector is spread over a few threads to keep up.
 class PinnedStaging {
  public:
-  explicit PinnedStaging(std::size_t chunk_bytes = std::size_t{32} << 20);
+  /// copy_threads: host threads that copy each chunk between pinned and pageable memory.
+  explicit PinnedStaging(std::size_t chunk_bytes = std::size_t{32} << 20, std::size_t copy_threads = 8);
   ~PinnedStaging();
   PinnedStaging(const PinnedStaging&) = delete;
   PinnedStaging& operator=(const PinnedStaging&) = delete;
@@ -31,6 +32,7 @@ class PinnedStaging {
 
  private:
   std::size_t chunk_;
+  std::size_t copy_threads_;
   void* buffer_[2] = {nullptr, nullptr};
   cudaEvent_t done_[2] = {nullptr, nullptr};
   std::size_t bytes_moved_ = 0;
