@@ -12,12 +12,12 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "input/parallel.hpp"
@@ -56,14 +56,16 @@ int main(int argc, char** argv) {
   std::ostream& out = output.empty() ? std::cout : file;
   const std::size_t pages = (mib << 20) / sizeof(Page);
 
+  const std::string date = bench::utc_now();
+  const auto machine = bench::machine_info();
   auto emit = [&](const std::string& variant, std::size_t threads, int huge, std::vector<double> samples) {
-    std::sort(samples.begin(), samples.end());
-    nlohmann::json r = {{"benchmark", "page_faults"}, {"variant", variant}, {"threads", threads},
-                        {"huge_pages", huge},         {"mib", mib},         {"median_ms", samples[samples.size() / 2]},
-                        {"min_ms", samples.front()},  {"max_ms", samples.back()},
-                        {"gb_per_s", double(mib << 20) / 1e6 / samples[samples.size() / 2]},
-                        {"commit", bench::git_commit()},
-                        {"note", note}};
+    const bench::Summary time = bench::summarize(std::move(samples));
+    const nlohmann::ordered_json r = {
+        {"benchmark", "page_faults"}, {"variant", variant},     {"threads", threads},
+        {"huge_pages", huge},         {"mib", mib},             {"median_ms", time.median},
+        {"min_ms", time.min},         {"max_ms", time.max},     {"gb_per_s", double(mib << 20) / 1e6 / time.median},
+        {"commit", bench::git_commit()}, {"date", date},        {"machine", machine},
+        {"note", note}};
     out << r.dump() << std::endl;
   };
 

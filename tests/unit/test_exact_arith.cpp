@@ -83,6 +83,17 @@ int reference_incircle(const double* p) {  // ax ay bx by cx cy dx dy
                  (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady));
 }
 
+/// Four points on a circle of radius r in [r_lo, r_hi] about a centre in [-spread, spread]^2,
+/// rounded and nudged by a few ulps: near-cocircular.
+void near_cocircular(double* p, double spread, double r_lo, double r_hi) {
+  const double cx = uniform(-spread, spread), cy = uniform(-spread, spread), r = uniform(r_lo, r_hi);
+  for (int i = 0; i < 4; ++i) {
+    const double angle = uniform(0, 6.3);
+    p[2 * i] = nudged(cx + r * std::cos(angle));
+    p[2 * i + 1] = nudged(cy + r * std::sin(angle));
+  }
+}
+
 /// Eight coordinates of an adversarial incircle case: family 0 random, 1 near-cocircular,
 /// 2 small integers (exact ties), 3 large offset with tiny spread.
 void adversarial_incircle(int family, double* p) {
@@ -90,15 +101,9 @@ void adversarial_incircle(int family, double* p) {
     case 0:
       for (int i = 0; i < 8; ++i) p[i] = uniform(-1, 1);
       break;
-    case 1: {
-      const double cx = uniform(-2, 2), cy = uniform(-2, 2), r = uniform(0.1, 3);
-      for (int i = 0; i < 4; ++i) {
-        const double angle = uniform(0, 6.3);
-        p[2 * i] = nudged(cx + r * std::cos(angle));
-        p[2 * i + 1] = nudged(cy + r * std::sin(angle));
-      }
+    case 1:
+      near_cocircular(p, 2, 0.1, 3);
       break;
-    }
     case 2:
       for (int i = 0; i < 8; ++i) p[i] = integer(-5, 5);
       break;
@@ -223,15 +228,9 @@ TEST_CASE("the apex filters in the edge's frame are never wrong when they decide
         case 0:  // random
           for (double& v : p) v = uniform(-0.99, 0.99);
           break;
-        case 1: {  // near-cocircular
-          const double cx = uniform(-0.4, 0.4), cy = uniform(-0.4, 0.4), r = uniform(0.05, 0.5);
-          for (int k = 0; k < 4; ++k) {
-            const double angle = uniform(0, 6.3);
-            p[2 * k] = nudged(cx + r * std::cos(angle));
-            p[2 * k + 1] = nudged(cy + r * std::sin(angle));
-          }
+        case 1:  // near-cocircular, inside the unit square
+          near_cocircular(p, 0.4, 0.05, 0.5);
           break;
-        }
         case 2:  // small integers, scaled: exact ties
           for (double& v : p) v = integer(-5, 5) * 0x1p-3;
           break;
