@@ -241,13 +241,14 @@ int main(int argc, char** argv) {
         std::printf("\"host_to_host_ms\":%.3f,\"host_to_host_reused_ms\":%.3f,\"host_to_host_host_prepare_ms\":%.3f,"
                     "\"seam_share\":%.6g,",
                     median(h2h_ms), median(h2h_reused_ms), median(h2h_host_prepare_ms), median(seam_share));
-      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,",
+      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,\"uniform_cells\":%s,",
                   triangles, deferred, static_cast<unsigned long long>(counters.predicates),
                   static_cast<unsigned long long>(counters.bytes_to_device),
                   static_cast<unsigned long long>(counters.bytes_to_host),
                   static_cast<unsigned long long>(counters.max_cells_per_site),
                   static_cast<unsigned long long>(counters.sites_over_4096_cells),
-                  static_cast<unsigned long long>(counters.sites_over_budget));
+                  static_cast<unsigned long long>(counters.sites_over_budget),
+                  counters.uniform_cells ? "true" : "false");
       auto dump = [](const char* key, const std::map<std::string, std::vector<double>>& m, bool comma) {
         std::printf("\"%s\":{", key);
         bool first = true;

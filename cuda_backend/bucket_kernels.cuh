@@ -58,6 +58,24 @@ __global__ void sample_kernel(const double2* points, int n, int samples, double*
   ys[i] = p.y;
 }
 
+/// *max_count = the fullest bin of the sample's evenness histogram (star_grid.hpp). One block:
+/// the sample has at most 2^18 sites.
+__global__ void __launch_bounds__(1024) evenness_kernel(GridView g, const double* xs, const double* ys, int samples,
+                                                        unsigned int* max_count) {
+  __shared__ unsigned int bins[kEvennessBins * kEvennessBins];
+  __shared__ unsigned int fullest;
+  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x) bins[b] = 0;
+  if (threadIdx.x == 0) fullest = 0;
+  __syncthreads();
+  for (int i = threadIdx.x; i < samples; i += blockDim.x) atomicAdd(&bins[evenness_bin(g, xs[i], ys[i])], 1u);
+  __syncthreads();
+  unsigned int m = 0;
+  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x) m = max(m, bins[b]);
+  atomicMax(&fullest, m);
+  __syncthreads();
+  if (threadIdx.x == 0) *max_count = fullest;
+}
+
 /// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1.
 __global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
@@ -100,20 +118,35 @@ class CellBuckets {
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
         sy2_(quantile_ ? samples_ : 0, stream),
+        max_count_(1, stream),
         temp_(temp_bytes(capacity, stream), stream) {
     while ((std::size_t{1} << key_bits_) < cells_ + 1) ++key_bits_;
   }
 
   std::size_t cells() const { return cells_; }
+  /// Whether the last build chose uniform cells.
+  bool uniform() const { return uniform_; }
   int key_bits() const { return key_bits_; }
 
   /// Buckets points[0, n) (n <= capacity): sets g's boundaries (g.xb, g.yb, quantile kind) and
   /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
-  void build(GridView& g, const double2* points, int n, int* rank, cudaStream_t stream) {
+  /// `word`: pinned host memory for the evenness test's one number (the host waits for it).
+  void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, cudaStream_t stream) {
+    uniform_ = !quantile_;
     if (quantile_) {
       const int samples = quantile_sample_count(static_cast<std::size_t>(n));
       sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
       EXPANSE_CUDA(cudaGetLastError());
+      if (!quantile_asked() && samples >= kEvennessMinSamples && g.max_x > g.min_x && g.max_y > g.min_y) {
+        evenness_kernel<<<1, 1024, 0, stream>>>(g, sx_.get(), sy_.get(), samples, max_count_.get());
+        EXPANSE_CUDA(cudaGetLastError());
+        EXPANSE_CUDA(cudaMemcpyAsync(word, max_count_.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+        EXPANSE_CUDA(cudaStreamSynchronize(stream));
+        uniform_ = evenly_spread(*word, samples);
+      }
+    }
+    if (!uniform_) {
+      const int samples = quantile_sample_count(static_cast<std::size_t>(n));
       std::size_t bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();
@@ -156,6 +189,11 @@ class CellBuckets {
     const char* env = std::getenv("EXPANSE_CUDA_GUIDE");
     return env && std::strcmp(env, "off") == 0;
   }
+  // EXPANSE_CUDA_GRID=quantile: quantile cells even for an evenly spread input (comparisons).
+  static bool quantile_asked() {
+    const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
+    return grid_env && std::strcmp(grid_env, "quantile") == 0;
+  }
   static bool uniform_grid_asked() {
     const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
     return grid_env && std::strcmp(grid_env, "uniform") == 0;
@@ -174,7 +212,8 @@ class CellBuckets {
 
   GridShape shape_;
   std::size_t cells_;
-  bool quantile_;
+  bool quantile_;   ///< quantile cells possible (not EXPANSE_CUDA_GRID=uniform, not tiny)
+  bool uniform_ = false;  ///< the last build's choice
   int samples_;
   int key_bits_ = 1;
 
@@ -188,6 +227,7 @@ class CellBuckets {
   DeviceArray<double> xb_, yb_;
   DeviceArray<int> x_guide_, y_guide_;
   DeviceArray<double> sx_, sy_, sx2_, sy2_;
+  DeviceArray<unsigned int> max_count_;
   DeviceArray<unsigned char> temp_;
 };
 

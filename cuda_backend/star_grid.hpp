@@ -70,6 +70,32 @@ EXPANSE_HOST_DEVICE int quantile_sample_site(int i, int n, int samples) {
   return static_cast<int>(z % static_cast<std::uint64_t>(n));
 }
 
+/// Uniform cells or quantile cells. Quantile cells keep a cell's share of the sites even where
+/// they cluster, but every cell lookup is a search of the boundaries; uniform cells are looked
+/// up by a multiplication (H100, 4096^2 uniform, star kernel: 69 ms against 78 with the guided
+/// search). So the sample decides: a kEvennessBins^2 histogram over the sites' box, and uniform
+/// cells where no bin holds more than twice the mean (a uniform sample of 2^15 or more sites
+/// stays far below: 32 per bin at least, the largest of 1024 Poisson bins about 1.5x the mean);
+/// clusters and long tails (gaussian, kuzmin) exceed it many times over.
+inline constexpr int kEvennessBins = 32;
+inline constexpr int kEvennessMinSamples = 1 << 15;
+
+/// The histogram bin of (x, y), in [0, kEvennessBins^2), for a view whose box is not flat.
+EXPANSE_HOST_DEVICE int evenness_bin(const GridView& g, double x, double y) {
+  auto bin = [](double v, double lo, double hi) {
+    const double t = (v - lo) / (hi - lo) * kEvennessBins;
+    return t <= 0.0 ? 0 : t >= kEvennessBins - 1 ? kEvennessBins - 1 : static_cast<int>(t);
+  };
+  return bin(y, g.min_y, g.max_y) * kEvennessBins + bin(x, g.min_x, g.max_x);
+}
+
+/// Whether `samples` sites whose fullest histogram bin holds `max_count` are spread evenly
+/// enough for uniform cells (see kEvennessBins). Too small a sample says no.
+inline bool evenly_spread(unsigned max_count, int samples) {
+  if (samples < kEvennessMinSamples) return false;
+  return static_cast<double>(max_count) <= 2.0 * samples / (kEvennessBins * kEvennessBins);
+}
+
 /// Boundary j (1 .. cells - 1) from the sorted sample: its (j / cells)-quantile.
 EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, int cells, int j) {
   const long long k = static_cast<long long>(j) * samples / cells;

@@ -310,7 +310,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   GridView g = make_grid_view(shape, input.sites.bounds);
 
   timer.begin("bucket");
-  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), stream);
+  // The evenness test's read-back goes through pinned word 15, read at once (the audit reuses it later).
+  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15], stream);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
@@ -503,6 +504,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   counters.max_cells_per_site = sizes[5];
   counters.sites_over_4096_cells = sizes[6];
   counters.sites_over_budget = sizes[7];
+  counters.uniform_cells = buckets.uniform();
   result.iterations = 1;
   result.device_stages = timer.collect();
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };

@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "expanse/generate.hpp"
 #include "predicates/predicates.hpp"
 #include "star_host.hpp"
 #include "support/cgal_oracle.hpp"
@@ -254,4 +255,33 @@ TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search"
   std::vector<int> table(cuda::QuantileGuide::bins_for(1000) + 1, 0);
   CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75 + 1e-14) == nullptr);
   CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75) == nullptr);
+}
+
+TEST_CASE("CUDA grid choice: uniform cells for evenly spread sites, quantile cells for clusters", "[cuda][grid]") {
+  // The evenness test as the device runs it (evenness_bin over the quantile sample, then
+  // evenly_spread), here on the CPU.
+  auto chooses_uniform = [](const std::vector<Point2>& points) {
+    const SiteSet sites = prepare_sites(points);
+    const std::size_t n = sites.points.size();
+    const cuda::GridShape shape = cuda::make_grid_shape(sites.bounds, n, 2.0);
+    const cuda::GridView g = cuda::make_grid_view(shape, sites.bounds);
+    const int samples = cuda::quantile_sample_count(n);
+    std::vector<unsigned> bins(cuda::kEvennessBins * cuda::kEvennessBins, 0);
+    for (int i = 0; i < samples; ++i) {
+      const Point2 p = sites.points[cuda::quantile_sample_site(i, static_cast<int>(n), samples)];
+      const int b = cuda::evenness_bin(g, p.x, p.y);
+      REQUIRE(b >= 0);
+      REQUIRE(b < cuda::kEvennessBins * cuda::kEvennessBins);
+      ++bins[b];
+    }
+    return cuda::evenly_spread(*std::max_element(bins.begin(), bins.end()), samples);
+  };
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    CHECK(chooses_uniform(generate_points("uniform", std::size_t{1} << 16, seed)));
+    CHECK(chooses_uniform(generate_points("grid", std::size_t{1} << 16, seed)));
+    CHECK_FALSE(chooses_uniform(generate_points("gaussian", std::size_t{1} << 16, seed)));
+    CHECK_FALSE(chooses_uniform(generate_points("kuzmin", std::size_t{1} << 16, seed)));
+  }
+  // Too few sites to tell: quantile cells, as before the test existed.
+  CHECK_FALSE(chooses_uniform(generate_points("uniform", std::size_t{1} << 12, 1)));
 }
