@@ -58,20 +58,27 @@ __global__ void sample_kernel(const double2* points, int n, int samples, double*
   ys[i] = p.y;
 }
 
-/// *max_count = the fullest bin of the sample's evenness histogram (star_grid.hpp). One block:
-/// the sample has at most 2^18 sites.
-__global__ void __launch_bounds__(1024) evenness_kernel(GridView g, const double* xs, const double* ys, int samples,
-                                                        unsigned int* max_count) {
-  __shared__ unsigned int bins[kEvennessBins * kEvennessBins];
+/// The sample's evenness histogram (star_grid.hpp) into `bins` (zeroed before): each block
+/// counts its slice in shared memory, then adds its counts.
+__global__ void evenness_count_kernel(EvennessFrame f, const double* xs, const double* ys, int samples,
+                                      unsigned int* bins) {
+  __shared__ unsigned int local[kEvennessBins * kEvennessBins];
+  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x) local[b] = 0;
+  __syncthreads();
+  for (int i = blockIdx.x * blockDim.x + threadIdx.x; i < samples; i += gridDim.x * blockDim.x)
+    atomicAdd(&local[evenness_bin(f, xs[i], ys[i])], 1u);
+  __syncthreads();
+  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x)
+    if (local[b]) atomicAdd(&bins[b], local[b]);
+}
+
+/// *max_count = the fullest of the histogram's bins (one block of kEvennessBins^2 threads).
+__global__ void __launch_bounds__(kEvennessBins * kEvennessBins) evenness_max_kernel(const unsigned int* bins,
+                                                                                    unsigned int* max_count) {
   __shared__ unsigned int fullest;
-  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x) bins[b] = 0;
   if (threadIdx.x == 0) fullest = 0;
   __syncthreads();
-  for (int i = threadIdx.x; i < samples; i += blockDim.x) atomicAdd(&bins[evenness_bin(g, xs[i], ys[i])], 1u);
-  __syncthreads();
-  unsigned int m = 0;
-  for (int b = threadIdx.x; b < kEvennessBins * kEvennessBins; b += blockDim.x) m = max(m, bins[b]);
-  atomicMax(&fullest, m);
+  atomicMax(&fullest, bins[threadIdx.x]);
   __syncthreads();
   if (threadIdx.x == 0) *max_count = fullest;
 }
@@ -118,7 +125,7 @@ class CellBuckets {
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
         sy2_(quantile_ ? samples_ : 0, stream),
-        max_count_(1, stream),
+        bins_(quantile_ ? kEvennessBins * kEvennessBins + 1 : 0, stream),
         temp_(temp_bytes(capacity, stream), stream) {
     while ((std::size_t{1} << key_bits_) < cells_ + 1) ++key_bits_;
   }
@@ -138,9 +145,13 @@ class CellBuckets {
       sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
       EXPANSE_CUDA(cudaGetLastError());
       if (!quantile_asked() && samples >= kEvennessMinSamples && g.max_x > g.min_x && g.max_y > g.min_y) {
-        evenness_kernel<<<1, 1024, 0, stream>>>(g, sx_.get(), sy_.get(), samples, max_count_.get());
+        EXPANSE_CUDA(cudaMemsetAsync(bins_.get(), 0, bins_.bytes(), stream));
+        evenness_count_kernel<<<std::min(64, bucket_blocks(samples)), kBucketThreads, 0, stream>>>(
+            evenness_frame(g), sx_.get(), sy_.get(), samples, bins_.get());
+        evenness_max_kernel<<<1, kEvennessBins * kEvennessBins, 0, stream>>>(bins_.get(), bins_.get() + kEvennessBins * kEvennessBins);
         EXPANSE_CUDA(cudaGetLastError());
-        EXPANSE_CUDA(cudaMemcpyAsync(word, max_count_.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+        EXPANSE_CUDA(cudaMemcpyAsync(word, bins_.get() + kEvennessBins * kEvennessBins, sizeof(unsigned int),
+                                     cudaMemcpyDeviceToHost, stream));
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         uniform_ = evenly_spread(*word, samples);
       }
@@ -227,7 +238,7 @@ class CellBuckets {
   DeviceArray<double> xb_, yb_;
   DeviceArray<int> x_guide_, y_guide_;
   DeviceArray<double> sx_, sy_, sx2_, sy2_;
-  DeviceArray<unsigned int> max_count_;
+  DeviceArray<unsigned int> bins_;  ///< the evenness histogram, then its fullest bin
   DeviceArray<unsigned char> temp_;
 };
 

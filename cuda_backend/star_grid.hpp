@@ -80,13 +80,21 @@ EXPANSE_HOST_DEVICE int quantile_sample_site(int i, int n, int samples) {
 inline constexpr int kEvennessBins = 32;
 inline constexpr int kEvennessMinSamples = 1 << 15;
 
-/// The histogram bin of (x, y), in [0, kEvennessBins^2), for a view whose box is not flat.
-EXPANSE_HOST_DEVICE int evenness_bin(const GridView& g, double x, double y) {
-  auto bin = [](double v, double lo, double hi) {
-    const double t = (v - lo) / (hi - lo) * kEvennessBins;
+/// The histogram's frame over the sites' box (not flat): origin and bins per unit.
+struct EvennessFrame {
+  double min_x, min_y, scale_x, scale_y;
+};
+inline EvennessFrame evenness_frame(const GridView& g) {
+  return {g.min_x, g.min_y, kEvennessBins / (g.max_x - g.min_x), kEvennessBins / (g.max_y - g.min_y)};
+}
+
+/// The histogram bin of (x, y), in [0, kEvennessBins^2).
+EXPANSE_HOST_DEVICE int evenness_bin(const EvennessFrame& f, double x, double y) {
+  auto bin = [](double v, double lo, double scale) {
+    const double t = (v - lo) * scale;
     return t <= 0.0 ? 0 : t >= kEvennessBins - 1 ? kEvennessBins - 1 : static_cast<int>(t);
   };
-  return bin(y, g.min_y, g.max_y) * kEvennessBins + bin(x, g.min_x, g.max_x);
+  return bin(y, f.min_y, f.scale_y) * kEvennessBins + bin(x, f.min_x, f.scale_x);
 }
 
 /// Whether `samples` sites whose fullest histogram bin holds `max_count` are spread evenly

@@ -264,12 +264,12 @@ TEST_CASE("CUDA grid choice: uniform cells for evenly spread sites, quantile cel
     const SiteSet sites = prepare_sites(points);
     const std::size_t n = sites.points.size();
     const cuda::GridShape shape = cuda::make_grid_shape(sites.bounds, n, 2.0);
-    const cuda::GridView g = cuda::make_grid_view(shape, sites.bounds);
+    const cuda::EvennessFrame frame = cuda::evenness_frame(cuda::make_grid_view(shape, sites.bounds));
     const int samples = cuda::quantile_sample_count(n);
     std::vector<unsigned> bins(cuda::kEvennessBins * cuda::kEvennessBins, 0);
     for (int i = 0; i < samples; ++i) {
       const Point2 p = sites.points[cuda::quantile_sample_site(i, static_cast<int>(n), samples)];
-      const int b = cuda::evenness_bin(g, p.x, p.y);
+      const int b = cuda::evenness_bin(frame, p.x, p.y);
       REQUIRE(b >= 0);
       REQUIRE(b < cuda::kEvennessBins * cuda::kEvennessBins);
       ++bins[b];

@@ -174,6 +174,9 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
       const detail::SeamStats seam =
           timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial); });
       stats.seam_triangles = seam.triangles_made;
+      stats.stages.push_back({"seam: setup", seam.setup_ms});
+      stats.stages.push_back({"seam: open edges", seam.open_ms});
+      stats.stages.push_back({"seam: growth", seam.grow_ms});
     } else if (options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
       partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
     }

@@ -1,6 +1,7 @@
 #include "seam/seam_completion.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 #include "expanse/error.hpp"
@@ -194,6 +195,9 @@ std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& tri
 
 SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree& tree,
                         PartialTriangulation& mesh) {
+  using Clock = std::chrono::steady_clock;
+  const auto ms_since = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
+  auto phase_start = Clock::now();
   if (mesh.neighbors.size() != mesh.triangles.size()) {
     mesh.neighbors = derive_neighbors(mesh.triangles);
     mesh.open_slots.reset();  // listed for an adjacency that is gone
@@ -202,8 +206,10 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
   reserve_prefaulted(mesh.triangles, expected);
   reserve_prefaulted(mesh.neighbors, expected);
 
-  FrontGrowth growth(sites, hull, tree, mesh);
   SeamStats stats;
+  stats.setup_ms = ms_since(phase_start);
+  phase_start = Clock::now();
+  FrontGrowth growth(sites, hull, tree, mesh);
   if (mesh.triangles.empty()) {
     // The paper's sequential algorithm: seed near the centre, first edge to its nearest
     // neighbour (always a Delaunay edge).
@@ -255,7 +261,10 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
       }
     }
   }
+  stats.open_ms = ms_since(phase_start);
+  phase_start = Clock::now();
   growth.grow();
+  stats.grow_ms = ms_since(phase_start);
   stats.triangles_made = growth.made();
   stats.candidates_tested = growth.candidates_tested();
   if (mesh.triangles.size() != expected) {

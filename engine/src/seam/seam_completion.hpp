@@ -15,6 +15,9 @@ struct SeamStats {
   std::size_t triangles_made = 0;   ///< triangles this stage added
   std::size_t open_edges = 0;       ///< front edges it started from
   std::uint64_t candidates_tested = 0;
+  double setup_ms = 0.0;            ///< adjacency derived (if absent) and room reserved
+  double open_ms = 0.0;             ///< the open edges found and queued
+  double grow_ms = 0.0;             ///< the front grown to the full triangulation
 };
 
 /// Completes `mesh` in place to the full Delaunay triangulation: appends the missing triangles
