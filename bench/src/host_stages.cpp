@@ -297,6 +297,9 @@ int main(int argc, char** argv) {
         info["open_edges"] = stats.open_edges;
         info["triangles_made"] = stats.triangles_made;
         info["candidates_tested"] = stats.candidates_tested;
+        info["last_setup_ms"] = stats.setup_ms;  // the phases of the last repetition
+        info["last_open_ms"] = stats.open_ms;
+        info["last_grow_ms"] = stats.grow_ms;
         if (on_demand) info["nodes"] = lazy->nodes().size();
         emit(variant, s, Checksum{}.add(work.triangles).add(work.neighbors).hex(), info);
       }
