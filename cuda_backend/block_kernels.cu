@@ -15,6 +15,7 @@
 
 #include "cuda_internal.hpp"
 #include "device_geometry.cuh"
+#include "sorted_order_kernels.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
@@ -101,21 +102,6 @@ __global__ void membership_fill_kernel(Blocks bl, const double2* points, int n, 
       sites[out] = i;
       ++out;
     }
-}
-
-__global__ void block_gather_kernel(const int* sites, const double2* points, int m, double2* block_points) {
-  const int j = blockIdx.x * blockDim.x + threadIdx.x;
-  if (j < m) block_points[j] = points[sites[j]];
-}
-
-__global__ void block_cell_start_kernel(const std::uint32_t* keys, int m, int cells, std::uint32_t* cell_start) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= m) return;
-  const int key = static_cast<int>(keys[i]);
-  const int prev = i == 0 ? -1 : static_cast<int>(keys[i - 1]);
-  for (int c = prev + 1; c <= key; ++c) cell_start[c] = static_cast<std::uint32_t>(i);
-  if (i == m - 1)
-    for (int c = key + 1; c <= cells; ++c) cell_start[c] = static_cast<std::uint32_t>(m);
 }
 
 /// Per-block capacities: the hash set of finished directed edges and the two edge lists.
@@ -393,8 +379,8 @@ void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result)
   }
   DeviceArray<double2> d_copy_points(m, stream);
   DeviceArray<std::uint32_t> d_cell_start(cells + 1, stream);
-  block_gather_kernel<<<grid_for(m), 256, 0, stream>>>(d_sorted_sites.get(), d_points.get(), static_cast<int>(m), d_copy_points.get());
-  block_cell_start_kernel<<<grid_for(m), 256, 0, stream>>>(d_keys_sorted.get(), static_cast<int>(m), static_cast<int>(cells),
+  gather_kernel<<<grid_for(m), 256, 0, stream>>>(d_sorted_sites.get(), d_points.get(), static_cast<int>(m), d_copy_points.get());
+  cell_start_kernel<<<grid_for(m), 256, 0, stream>>>(d_keys_sorted.get(), static_cast<int>(m), static_cast<int>(cells),
                                                           d_cell_start.get());
   DeviceArray<int> d_hash_cap(blocks, stream), d_list_cap(blocks, stream);
   DeviceArray<int> d_hash_offset(blocks + 1, stream), d_list_offset(blocks + 1, stream);

@@ -10,6 +10,7 @@
 
 #include "cuda_internal.hpp"
 #include "device_geometry.cuh"
+#include "sorted_order_kernels.cuh"
 #include "star_grid.hpp"
 
 namespace expanse::detail::cuda {
@@ -21,25 +22,6 @@ __global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::
   const double2 p = points[i];
   keys[i] = static_cast<std::uint32_t>(g.cell_y(p.y) * g.gx + g.cell_x(p.x));
   ids[i] = i;
-}
-
-/// sorted_points[i] = points[sorted_ids[i]]; rank (optional) the inverse permutation.
-__global__ void gather_kernel(const int* sorted_ids, const double2* points, int n, double2* sorted_points, int* rank) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const int id = sorted_ids[i];
-  sorted_points[i] = points[id];
-  if (rank) rank[id] = i;
-}
-
-__global__ void cell_start_kernel(const std::uint32_t* keys, int n, int cells, std::uint32_t* cell_start) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const int key = static_cast<int>(keys[i]);
-  const int prev = i == 0 ? -1 : static_cast<int>(keys[i - 1]);
-  for (int c = prev + 1; c <= key; ++c) cell_start[c] = static_cast<std::uint32_t>(i);
-  if (i == n - 1)
-    for (int c = key + 1; c <= cells; ++c) cell_start[c] = static_cast<std::uint32_t>(n);
 }
 
 __global__ void hull_predecessor_kernel(const int* hull, int h, const int* rank, int* pred) {
@@ -140,8 +122,8 @@ class CellBuckets {
   /// `word`: pinned host memory for the evenness test's one number (the host waits for it).
   void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, cudaStream_t stream) {
     uniform_ = !quantile_;
+    const int samples = quantile_sample_count(static_cast<std::size_t>(n));
     if (quantile_) {
-      const int samples = quantile_sample_count(static_cast<std::size_t>(n));
       sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
       EXPANSE_CUDA(cudaGetLastError());
       if (!quantile_asked() && samples >= kEvennessMinSamples && g.max_x > g.min_x && g.max_y > g.min_y) {
@@ -157,7 +139,6 @@ class CellBuckets {
       }
     }
     if (!uniform_) {
-      const int samples = quantile_sample_count(static_cast<std::size_t>(n));
       std::size_t bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();

@@ -32,6 +32,7 @@
 #include "cuda_internal.hpp"
 #include "input/morton.hpp"
 #include "input/parallel.hpp"
+#include "sorted_order_kernels.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
@@ -112,12 +113,6 @@ __global__ void morton_kernel(const double2* points, int n, Quantiser q, std::ui
   if (i >= n) return;
   codes[i] = morton(points[i], q);
   ids[i] = i;
-}
-
-/// sorted[k] = points[ids[k]].
-__global__ void gather_kernel(const int* ids, const double2* points, int n, double2* sorted) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < n) sorted[k] = points[ids[k]];
 }
 
 /// A long run's order: points sorted by (Morton code, x, y), stably, so that equal points are

@@ -858,7 +858,7 @@ class VulkanBackend final : public Backend {
     }
     // u's position in the star, or -1. The row's 16 slots compared at once (vectorised), then
     // only the star's slots kept (degree of them from `start`, wrapping); a site is in a star
-    // at most once. 1M uniform sites on lavapipe: links 68 -> 55 ms against a loop over the
+    // at most once. 1M uniform sites on lavapipe: links 68 -> 55-57 ms against a loop over the
     // star's entries.
     int find(std::int32_t u) const {
       std::uint32_t matches = 0;
