@@ -28,6 +28,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "backends/backend.hpp"
@@ -108,6 +109,36 @@ int time_transfers(int reps) {
   // them costs next to the copy it saves.
   report("register", down_bytes, [&] { EXPANSE_CUDA(cudaHostRegister(pageable.data(), down_bytes, cudaHostRegisterDefault));
                                        EXPANSE_CUDA(cudaHostUnregister(pageable.data())); });
+  // Pinning and releasing apart (release is what a caller would wait for after the copy), in
+  // one call and in 2 MiB-aligned pieces on all threads.
+  const auto pin_apart = [&](std::size_t pieces) {
+    const std::size_t piece = ((down_bytes / pieces + (std::size_t{2} << 20) - 1) >> 21) << 21;
+    const auto each = [&](auto&& call) {
+      std::vector<std::thread> threads;
+      for (std::size_t at = 0; at < down_bytes; at += piece)
+        threads.emplace_back([&, at] { call(pageable.data() + at, std::min(piece, down_bytes - at)); });
+      for (auto& t : threads) t.join();
+    };
+    std::vector<double> pin_ms, release_ms;
+    for (int r = 0; r <= reps; ++r) {
+      const double t0 = now_ms();
+      each([](unsigned char* at, std::size_t bytes) { EXPANSE_CUDA(cudaHostRegister(at, bytes, cudaHostRegisterDefault)); });
+      const double t1 = now_ms();
+      each([](unsigned char* at, std::size_t) { EXPANSE_CUDA(cudaHostUnregister(at)); });
+      const double t2 = now_ms();
+      if (r > 0) {
+        pin_ms.push_back(t1 - t0);
+        release_ms.push_back(t2 - t1);
+      }
+    }
+    for (const auto& [what, ms] : {std::pair{"pin", &pin_ms}, std::pair{"release", &release_ms}}) {
+      std::printf("{\"transfer\": \"%s, %zu pieces\", \"bytes\": %zu, \"median_ms\": %.3f, \"gb_per_s\": %.2f}\n", what,
+                  pieces, down_bytes, median(*ms), double(down_bytes) / 1e6 / median(*ms));
+    }
+    std::fflush(stdout);
+  };
+  pin_apart(1);
+  pin_apart(16);
   EXPANSE_CUDA(cudaHostRegister(pageable.data(), down_bytes, cudaHostRegisterDefault));
   report("d2h registered", down_bytes, [&] {
     EXPANSE_CUDA(cudaMemcpyAsync(pageable.data(), device, down_bytes, cudaMemcpyDeviceToHost, stream));

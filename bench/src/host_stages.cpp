@@ -51,6 +51,7 @@
 #include "pipeline/output.hpp"
 #include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
+#include "star_host.hpp"
 #include "support.hpp"
 
 using namespace expanse;
@@ -138,6 +139,34 @@ std::vector<Triangle> full_triangulation(const SiteSet& sites, const Hull& hull,
   return std::move(mesh.triangles);
 }
 
+// Marks up to `count` sites open: the vertices of the triangles with the largest circumcircles
+// (squared radius from the doubles, ranking only), widest first. Near the hull of a uniform
+// input these are the long, thin triangles whose searches exceed a GPU's work budget.
+void open_widest(const SiteSet& sites, const std::vector<Triangle>& full, std::size_t count, std::vector<bool>& open) {
+  std::vector<std::pair<double, std::size_t>> radius(full.size());
+  parallel_chunks(full.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      const Point2 a = sites.points[full[t][0]], b = sites.points[full[t][1]], c = sites.points[full[t][2]];
+      const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+      const double d = 2 * (bx * cy - by * cx);
+      const double ux = (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / d;
+      const double uy = (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / d;
+      radius[t] = {-(ux * ux + uy * uy), t};
+    }
+  });
+  const std::size_t keep = std::min(full.size(), 4 * count + 16);
+  std::partial_sort(radius.begin(), radius.begin() + static_cast<std::ptrdiff_t>(keep), radius.end());
+  std::size_t opened = 0;
+  for (std::size_t k = 0; k < keep && opened < count; ++k) {
+    for (std::int32_t v : full[radius[k].second]) {
+      if (!open[static_cast<std::size_t>(v)] && opened < count) {
+        open[static_cast<std::size_t>(v)] = true;
+        ++opened;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -148,6 +177,7 @@ int main(int argc, char** argv) {
   std::string distribution = "uniform", output, note, cache = default_cache().string();
   int reps = 3;
   std::size_t threads = 0, open_sites = 8;
+  std::string open_where = "spread";
   std::uint64_t seed = 1;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
   app.add_option("--dist", distribution, "distribution (expanse generate names)");
@@ -157,6 +187,11 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads,
                  "host threads for the parallel passes (default: $EXPANSE_HOST_THREADS, else all)");
   app.add_option("--open-sites", open_sites, "sites whose triangles are left out for audit/derive/seam");
+  app.add_option("--open-where", open_where,
+                 "spread: sites spread over the Morton order; wide: the vertices of the triangles with "
+                 "the largest circles (hull-hugging); cuda: the sites the CUDA kernel defers, its "
+                 "walks counted on the CPU (--open-sites is then ignored)")
+      ->check(CLI::IsMember({"spread", "wide", "cuda"}));
   app.add_option("--cache", cache, "folder for cached full triangulations");
   app.add_option("-o,--output", output, "append JSON lines to this file (default: stdout)");
   app.add_option("--note", note, "free text stored in every record");
@@ -239,12 +274,21 @@ int main(int argc, char** argv) {
         std::filesystem::path(cache) / (distribution + "-" + std::to_string(n) + "-" + std::to_string(seed) + ".tri");
     std::vector<Triangle> full = full_triangulation(sites, hull, cache_file, sites_sum.h);
 
-    // The seam: every triangle touching one of `open_sites` sites spread over the Morton order.
+    // The seam: every triangle touching one of `open_sites` sites, spread over the Morton order
+    // or taken from the triangles with the largest circles.
     PartialTriangulation partial;
     {
       std::vector<bool> open(static_cast<std::size_t>(sites.size()), false);
-      for (std::size_t k = 0; k < open_sites; ++k) {
-        open[(2 * k + 1) * static_cast<std::size_t>(sites.size()) / (2 * open_sites)] = true;
+      if (open_where == "spread") {
+        for (std::size_t k = 0; k < open_sites; ++k) {
+          open[(2 * k + 1) * static_cast<std::size_t>(sites.size()) / (2 * open_sites)] = true;
+        }
+      } else if (open_where == "wide") {
+        open_widest(sites, full, open_sites, open);
+      } else {
+        cuda::HostStarLayout layout(sites, hull, 2.0, distribution != "uniform" && distribution != "grid");
+        layout.walk_all(0, static_cast<unsigned>(host_threads()));
+        open = layout.deferred_sites();
       }
       partial.triangles.reserve(full.size());
       for (const Triangle& t : full) {
@@ -252,7 +296,8 @@ int main(int argc, char** argv) {
       }
       partial.neighbors = derive_neighbors(partial.triangles);
     }
-    const nlohmann::ordered_json seam_info = {{"triangles", partial.triangles.size()},
+    const nlohmann::ordered_json seam_info = {{"open_where", open_where},
+                                              {"triangles", partial.triangles.size()},
                                               {"left_out", full.size() - partial.triangles.size()}};
 
     if (wants("audit")) {
