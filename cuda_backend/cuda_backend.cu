@@ -92,6 +92,24 @@ void PinnedStaging::download(void* host_dst, const void* device_src, std::size_t
   bytes_moved_ += bytes;
 }
 
+PinnedInPlace::~PinnedInPlace() {
+  for (void* range : ranges_) cudaHostUnregister(range);  // a destructor cannot report failure
+}
+
+bool PinnedInPlace::pin(void* data, std::size_t bytes) {
+  if (data == nullptr || bytes == 0) return false;
+  if (cudaHostRegister(data, bytes, cudaHostRegisterDefault) != cudaSuccess) {
+    cudaGetLastError();  // clears the refusal: the ring copies instead
+    return false;
+  }
+  ranges_.push_back(data);
+  return true;
+}
+
+bool PinnedInPlace::pinned(const void* data) const {
+  return std::find(ranges_.begin(), ranges_.end(), data) != ranges_.end();
+}
+
 // ---- Stage timer ------------------------------------------------------------------------------
 
 StageTimer::~StageTimer() {

@@ -38,6 +38,25 @@ class PinnedStaging {
   std::size_t bytes_moved_ = 0;
 };
 
+/// Host memory pinned where it lies (cudaHostRegister) for as long as the object lives, so that
+/// a download goes straight into it at the bus's speed instead of through a staging ring. On the
+/// H100's host (805 MB, session 8 call 1): pinning 27-29 ms, releasing 18 ms, the copy 15.3 ms
+/// against 35-37 ms through the ring. A range the driver refuses is left unpinned (pinned()
+/// says so) and the caller uses the ring.
+class PinnedInPlace {
+ public:
+  PinnedInPlace() = default;
+  ~PinnedInPlace();
+  PinnedInPlace(const PinnedInPlace&) = delete;
+  PinnedInPlace& operator=(const PinnedInPlace&) = delete;
+  /// Pins [data, data + bytes); returns whether it is pinned.
+  bool pin(void* data, std::size_t bytes);
+  bool pinned(const void* data) const;
+
+ private:
+  std::vector<void*> ranges_;
+};
+
 /// CUDA events around named stages, read once at the end (no sync per stage).
 class StageTimer {
  public:

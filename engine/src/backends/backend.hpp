@@ -2,6 +2,7 @@
 // Where the front grows. A Backend hides only the device (memory, dispatch); the pipeline owns
 // input preparation, seam completion and output conventions.
 #include <functional>
+#include <future>
 #include <memory>
 #include <optional>
 #include <span>
@@ -36,6 +37,11 @@ struct GrowResult {
   /// passed (every link reciprocal; no open edge with a triangle across it): the pipeline's host
   /// audit is then skipped.
   bool adjacency_audited = false;
+  /// Host work the backend still runs after handing the result over, on its own thread (the
+  /// CUDA backend releases the output's pinned pages while the seam and output stages use
+  /// them). A std::async future: its destructor waits, and it is declared after `partial` so
+  /// that it is destroyed first; the pipeline drops it before the output leaves triangulate().
+  std::future<void> background;
 };
 
 /// The raw input, for a backend that validates nothing but sorts and merges duplicates on its

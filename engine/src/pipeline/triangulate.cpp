@@ -186,6 +186,9 @@ void detail::run_pipeline(Backend& backend, const Options& options, std::span<co
       detail::remap_to_input(mesh.triangles, sites);
       if (options.neighbors) mesh.neighbors = std::move(partial.neighbors);
     });
+    // What the backend still does with the output's memory (releasing pinned pages) ends
+    // before the output is handed over.
+    if (grown.background.valid()) timed(stats, "backend (after the output)", [&] { grown.background.get(); });
   }
   stats.triangles = mesh.triangles.size();
   mesh.hull = detail::to_input_indices(hull.sites, sites);
