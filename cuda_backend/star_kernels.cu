@@ -225,9 +225,6 @@ __global__ void link_open_pairs_kernel(const std::uint64_t* sorted, const int* s
 }
 
 constexpr int kThreads = 256;
-// Output (triangles and neighbours) from which it is pinned in place for the download: at 4096^2
-// (805 MB) pinning hides in the device's time. Smaller outputs take the staging ring.
-constexpr std::size_t kPinOutputBytes = std::size_t{256} << 20;
 
 /// The first pass's work budget (WalkPass). What it leaves, the warps of the second pass walk 32
 /// candidates at a time, so the smaller the better while the second pass stays short. Measured
@@ -413,16 +410,16 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   auto& partial = result.partial;
   allocate_full_triangulation(partial, n, input.hull.sites.size(), input.recycled);
   const auto host_allocated = clock::now();
-  // A large output is pinned in place while the device still works, so that the download runs
-  // at the bus's speed; its pages are released on another thread while the seam and output
-  // stages run (GrowResult::background). EXPANSE_CUDA_PIN_OUTPUT=0 or 1 forces the choice.
+  // EXPANSE_CUDA_PIN_OUTPUT=1 pins the output in place while the device still works, so that
+  // the download runs at the bus's speed; its pages are released on another thread while the
+  // seam and output stages run (GrowResult::background). Off by default: on the H100's host at
+  // 4096^2 (session 8 call 2, alternated in one call) the download fell from 26.5 to 15.0 ms
+  // and the release hid, but pinning's 27 ms of kernel work slowed the sites' concurrent copy
+  // to the host from 55-59 to 83-86 ms, and host to host went from 169-177 to 175-190 ms.
   auto pinned = std::make_unique<PinnedInPlace>();
   {
-    const std::size_t output_bytes = partial.triangles.capacity() * sizeof(partial.triangles[0]) +
-                                     (with_neighbors ? partial.neighbors.capacity() * sizeof(partial.neighbors[0]) : 0);
     const char* forced = std::getenv("EXPANSE_CUDA_PIN_OUTPUT");
-    const bool pin = forced && *forced ? std::strcmp(forced, "0") != 0 : output_bytes >= kPinOutputBytes;
-    if (pin) {
+    if (forced && *forced && std::strcmp(forced, "0") != 0) {
       pinned->pin(partial.triangles.data(), partial.triangles.capacity() * sizeof(partial.triangles[0]));
       if (with_neighbors)
         pinned->pin(partial.neighbors.data(), partial.neighbors.capacity() * sizeof(partial.neighbors[0]));
