@@ -379,28 +379,58 @@ TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-si
     const Hull hull = convex_hull(sites);
     std::vector<std::int32_t> site_of(points.size());
     for (std::int32_t s = 0; s < sites.size(); ++s) site_of[sites.input_index[s]] = s;
-    PartialTriangulation partial;
-    for (const Triangle& t : test::cgal_delaunay(points).triangles) {
-      const Triangle u{site_of[t[0]], site_of[t[1]], site_of[t[2]]};
-      // A few holes, and everything around two hull sites.
-      const bool open = u[0] % 40000 == 3 || u[1] % 40000 == 3 || u[2] % 40000 == 3 ||
-                        std::find(u.begin(), u.end(), hull.sites[0]) != u.end() ||
-                        std::find(u.begin(), u.end(), hull.sites[hull.sites.size() / 2]) != u.end();
-      if (!open) partial.triangles.push_back(u);
+    std::vector<Triangle> all;
+    for (const Triangle& t : test::cgal_delaunay(points).triangles) all.push_back({site_of[t[0]], site_of[t[1]], site_of[t[2]]});
+    // The sites of the widest triangles: the hull-hugging slivers a GPU leaves to the seam stage,
+    // whose searches follow strips along the hull (the on-demand tree's tight boxes).
+    std::vector<bool> widest(sites.points.size(), false);
+    {
+      std::vector<std::pair<double, std::size_t>> radius;
+      for (std::size_t t = 0; t < all.size(); ++t) {
+        const Point2 a = sites.points[all[t][0]], b = sites.points[all[t][1]], c = sites.points[all[t][2]];
+        const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+        const double d = 2 * (bx * cy - by * cx);
+        const double ux = (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / d;
+        const double uy = (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / d;
+        radius.push_back({-(ux * ux + uy * uy), t});
+      }
+      std::partial_sort(radius.begin(), radius.begin() + 40, radius.end());
+      for (std::size_t k = 0; k < 40; ++k) {
+        for (const std::int32_t v : all[radius[k].second]) widest[static_cast<std::size_t>(v)] = true;
+      }
     }
     const std::size_t expected = 2 * sites.points.size() - hull.sites.size() - 2;
-    const BucketTree seam_tree = BucketTree::for_seam(sites, expected - partial.triangles.size());
-    REQUIRE(seam_tree.is_on_demand());
     const BucketTree fine_tree(sites);
-    PartialTriangulation fine = partial, coarse = partial, on_demand = partial;
-    complete_seam(sites, hull, fine_tree, fine);
-    complete_seam(sites, hull, BucketTree(sites, BucketTree::coarse_capacity), coarse);
-    complete_seam(sites, hull, seam_tree, on_demand);
-    CHECK(fine.triangles == coarse.triangles);
-    CHECK(fine.neighbors == coarse.neighbors);
-    CHECK(fine.triangles == on_demand.triangles);
-    CHECK(fine.neighbors == on_demand.neighbors);
-    // The on-demand tree split only where the seam's searches went: its cost follows the seam.
-    CHECK(seam_tree.nodes().size() * 20 < fine_tree.nodes().size());
+    for (const bool along_hull : {false, true}) {
+      INFO(distribution << (along_hull ? ", the widest triangles' sites open" : ", holes and two hull sites open"));
+      PartialTriangulation partial;
+      for (const Triangle& u : all) {
+        // A few holes, and everything around two hull sites; or the widest triangles' sites.
+        const bool open = along_hull ? widest[u[0]] || widest[u[1]] || widest[u[2]]
+                                     : u[0] % 40000 == 3 || u[1] % 40000 == 3 || u[2] % 40000 == 3 ||
+                                           std::find(u.begin(), u.end(), hull.sites[0]) != u.end() ||
+                                           std::find(u.begin(), u.end(), hull.sites[hull.sites.size() / 2]) != u.end();
+        if (!open) partial.triangles.push_back(u);
+      }
+      REQUIRE(partial.triangles.size() < all.size());
+      const BucketTree seam_tree = BucketTree::for_seam(sites, expected - partial.triangles.size());
+      REQUIRE(seam_tree.is_on_demand());
+      PartialTriangulation fine = partial, coarse = partial, on_demand = partial;
+      complete_seam(sites, hull, fine_tree, fine);
+      complete_seam(sites, hull, BucketTree(sites, BucketTree::coarse_capacity), coarse);
+      complete_seam(sites, hull, seam_tree, on_demand);
+      CHECK(fine.triangles == coarse.triangles);
+      CHECK(fine.neighbors == coarse.neighbors);
+      CHECK(fine.triangles == on_demand.triangles);
+      CHECK(fine.neighbors == on_demand.neighbors);
+      // And the triangles are CGAL's.
+      std::vector<Triangle> made = fine.triangles;
+      remap_to_input(made, sites);
+      std::vector<Triangle> oracle = all;
+      remap_to_input(oracle, sites);
+      CHECK(test::compare_triangles(made, oracle).equal);
+      // The on-demand tree split only where the seam's searches went: its cost follows the seam.
+      CHECK(seam_tree.nodes().size() * 20 < fine_tree.nodes().size());
+    }
   }
 }

@@ -270,7 +270,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
     {  // most cells are a single bucket: no stack for them
       const BucketTree::Node node = nodes[root];
       if (node.begin == node.end) return;
-      const QuantBox box = node.box();
+      const QuantBox box = tree_.search_box(root);
       if (!box.intersects(square) || !box.intersects(best_box)) return;
       if (node.first_child == -1) {
         visit_bucket(root, node, box);
@@ -284,7 +284,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       const BucketTree::Node node = nodes[index];  // a copy: an on-demand tree grows below
       stack_.pop_back();
       if (node.begin == node.end) continue;
-      const QuantBox box = node.box();
+      const QuantBox box = tree_.search_box(index);
       if (!box.intersects(square) || !box.intersects(best_box)) continue;
       if (has_visited && visited.contains(box)) continue;
       if (node.first_child == -1) {

@@ -235,6 +235,7 @@ BucketTree BucketTree::on_demand(const SiteSet& sites, int capacity) {
   tree.sites_ = &sites;
   const Node root{0, 0, 1u << quant_bits, -1, 0, sites.size()};
   tree.nodes_.push_back(root);
+  tree.tight_.push_back(tree.tight_box(root));
   tree.nodes_[0].first_child = is_bucket(root, tree.capacity_) ? -1 : unsplit;
   if (tree.nodes_[0].first_child == -1) tree.check_bucket(0);
   // Cells of a few hundred sites: the grid is filled cell by cell as searches enter it, and is
@@ -258,12 +259,24 @@ std::int32_t BucketTree::split(std::int32_t index) const {
   for (Node child : children) {
     child.first_child = is_bucket(child, capacity_) ? -1 : unsplit;
     nodes_.push_back(child);
+    tight_.push_back(tight_box(child));
   }
   nodes_[static_cast<std::size_t>(index)].first_child = first;
   for (int k = 0; k < 4; ++k) {
     if (nodes_[static_cast<std::size_t>(first + k)].first_child == -1) check_bucket(first + k);
   }
   return first;
+}
+
+QuantBox BucketTree::tight_box(const Node& node) const {
+  if (node.end - node.begin > tight_box_sites || node.begin == node.end) return node.box();
+  QuantBox box{quant_max, quant_max, 0, 0};
+  for (std::int32_t i = node.begin; i < node.end; ++i) {
+    const Point2& p = sites_->points[static_cast<std::size_t>(i)];
+    const std::uint32_t qx = quantise_x(p.x), qy = quantise_y(p.y);
+    box = {std::min(box.x0, qx), std::min(box.y0, qy), std::max(box.x1, qx), std::max(box.y1, qy)};
+  }
+  return box;
 }
 
 void BucketTree::check_bucket(std::int32_t index) const {

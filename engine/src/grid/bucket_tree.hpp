@@ -80,6 +80,18 @@ class BucketTree {
     return first == unsplit ? split(index) : first;
   }
 
+  /// The box a search tests node `index` by: in an on-demand tree, for nodes of at most
+  /// tight_box_sites sites, the box of the sites' own quantised coordinates; otherwise the
+  /// node's square. Every site of the node lies in it (quantisation is monotone). Searches
+  /// must use one kind of box throughout (which nodes a round already covered is decided with
+  /// it). Why: the triangles a GPU leaves to the seam stage hug the hull, and their searches
+  /// follow a strip along it a few ulps wide and most of the domain long; the squares of every
+  /// node along the strip meet it, while almost no node holds a site inside it.
+  QuantBox search_box(std::int32_t index) const {
+    return tight_.empty() ? nodes_[static_cast<std::size_t>(index)].box() : tight_[static_cast<std::size_t>(index)];
+  }
+  static constexpr std::int32_t tight_box_sites = 4096;
+
   /// Quantised coordinate of a real one; monotone, clamped to [0, quant_max].
   std::uint32_t quantise_x(double x) const { return quantise(x - origin_x_); }
   std::uint32_t quantise_y(double y) const { return quantise(y - origin_y_); }
@@ -115,6 +127,7 @@ class BucketTree {
   void fill_cells(std::int32_t node);
   std::int32_t split(std::int32_t index) const;
   void check_bucket(std::int32_t index) const;
+  QuantBox tight_box(const Node& node) const;  // search_box() of a new on-demand node
   std::int32_t resolve_cell(int i, int j) const;
 
   double origin_x_ = 0, origin_y_ = 0, scale_ = 1;
@@ -124,6 +137,7 @@ class BucketTree {
   const SiteSet* sites_ = nullptr;  // on demand only
   mutable HostVector<std::int32_t> cell_node_;  // -1: not resolved yet (on demand only)
   mutable HostVector<Node> nodes_;
+  mutable HostVector<QuantBox> tight_;  // search_box() of each node (on demand only)
 };
 
 }  // namespace expanse::detail
