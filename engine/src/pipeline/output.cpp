@@ -4,7 +4,7 @@
 
 namespace expanse::detail {
 
-void remap_to_input(std::vector<Triangle>& triangles, const SiteSet& sites) {
+void remap_to_input(std::span<Triangle> triangles, const SiteSet& sites) {
   const std::int32_t* input_index = sites.input_index.data();
   parallel_chunks(triangles.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {

@@ -194,7 +194,7 @@ std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& tri
 }
 
 SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree& tree,
-                        PartialTriangulation& mesh) {
+                        PartialTriangulation& mesh, const std::function<void()>& before_growth) {
   using Clock = std::chrono::steady_clock;
   const auto ms_since = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
   auto phase_start = Clock::now();
@@ -262,6 +262,7 @@ SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree
     }
   }
   stats.open_ms = ms_since(phase_start);
+  if (before_growth) before_growth();
   phase_start = Clock::now();
   growth.grow();
   stats.grow_ms = ms_since(phase_start);

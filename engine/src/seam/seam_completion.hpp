@@ -3,6 +3,7 @@
 // open front of a partial triangulation (or, when there is none, with one seed). Every backend
 // hands its unfinished work here; the CPU backend is this stage seeded with one seed.
 #include <cstddef>
+#include <functional>
 
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
@@ -24,8 +25,14 @@ struct SeamStats {
 /// and fills mesh.neighbors (derived first if empty). Preconditions: at least three sites, not
 /// all collinear; every triangle of `mesh` is a correct Delaunay triangle, CCW, present once.
 /// Throws Error(internal) if the result does not have 2n - h - 2 triangles.
+///
+/// `before_growth`, if set, is called once the growth no longer reads the triangles `mesh`
+/// came with (their open edges are queued) and room for every triangle is reserved (the
+/// triangles' storage stays where it is): the pipeline turns their site ids into input indices
+/// there, on other threads, while the growth runs on this one. The growth only appends
+/// triangles and writes links.
 SeamStats complete_seam(const SiteSet& sites, const Hull& hull, const BucketTree& tree,
-                        PartialTriangulation& mesh);
+                        PartialTriangulation& mesh, const std::function<void()>& before_growth = {});
 
 /// Adjacency of a set of triangles (no_neighbor where an edge has one triangle).
 std::vector<TriangleNeighbors> derive_neighbors(const std::vector<Triangle>& triangles);
