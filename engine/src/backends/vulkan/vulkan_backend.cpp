@@ -130,7 +130,7 @@ static_assert(sizeof(StarParams) == 64);
 // Above 2^20 sites the histogram counts every (n / 2^20)-th site (Morton order, so the sample is
 // spread over the plane) into the same bins: reading all 16.8M sites was the `vulkan: grid`
 // stage's 15-17 ms at 4096^2 on the H100's host. Counted on the 2-core VM, the cells per side
-// then stay within 1% of the full count's for uniform, gaussian, kuzmin, grid, clusters and
+// then stay within 1.1% of the full count's for uniform, gaussian, kuzmin, grid, clusters and
 // disk inputs at 2M and 16.8M sites (fewer bins, as many sites to each, lost the small
 // clusters: 7,097 cells per side became 4,016).
 int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer) {
