@@ -52,6 +52,7 @@ class PinnedInPlace {
   /// Pins [data, data + bytes); returns whether it is pinned.
   bool pin(void* data, std::size_t bytes);
   bool pinned(const void* data) const;
+  bool empty() const { return ranges_.empty(); }
 
  private:
   std::vector<void*> ranges_;

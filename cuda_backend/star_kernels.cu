@@ -514,7 +514,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   timer.end();
   EXPANSE_CUDA(cudaStreamSynchronize(stream));
   const auto host_done = clock::now();
-  result.background = std::async(std::launch::async, [release = std::move(pinned)]() mutable { release.reset(); });
+  if (!pinned->empty())
+    result.background = std::async(std::launch::async, [release = std::move(pinned)]() mutable { release.reset(); });
 
   partial.deferred_expansions = sizes[1];
   // The device ran the host audit's checks: a failure there is final (the host would find the
