@@ -33,15 +33,9 @@ EXPANSE_DEVICE_FORCE bool lex_less(double2 p, double2 q) {
   return p.x < q.x || (p.x == q.x && p.y < q.y);
 }
 
-/// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(a, b, c, d, perturb = true) for
-/// CCW (a, b, c): +1 if d is inside the perturbed circle, -1 outside, or `uncertain`. The full
-/// incircle expansion needs ~40 KB of stack per thread, too much to reserve for every resident
-/// GPU thread, so an incircle that neither the filter nor the certificate decides is deferred.
-EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
-  int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s != 0) return s;  // a sign, or uncertain
-  // Exactly cocircular: walk the four points from the lexicographically largest down.
+/// incircle_perturbed's answer where a, b, c, d are exactly cocircular (CCW a, b, c): CGAL's
+/// symbolic perturbation, which walks the four points from the lexicographically largest down.
+EXPANSE_DEVICE int cocircular_perturbed(double2 a, double2 b, double2 c, double2 d) {
   const double2 p[4] = {a, b, c, d};
   int order[4] = {0, 1, 2, 3};
   for (int i = 1; i < 4; ++i)
@@ -64,6 +58,17 @@ EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d
     if (o != 0) return o;
   }
   return -1;
+}
+
+/// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(a, b, c, d, perturb = true) for
+/// CCW (a, b, c): +1 if d is inside the perturbed circle, -1 outside, or `uncertain`. The full
+/// incircle expansion needs ~40 KB of stack per thread, too much to reserve for every resident
+/// GPU thread, so an incircle that neither the filter nor the certificate decides is deferred.
+EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
+  int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s != 0) return s;  // a sign, or uncertain
+  return cocircular_perturbed(a, b, c, d);
 }
 
 /// Where a quantile axis' binary search starts: the axis cut into `bins` equal intervals from
@@ -111,6 +116,9 @@ struct GridView {
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
   const int* x_guide = nullptr;  ///< quantile kind, optional: where to start searching
   const int* y_guide = nullptr;  ///< (QuantileGuide tables, over min_x/min_y and inv_w/inv_h)
+  /// The apex filters' arithmetic is exact on these sites (exact_lattice_arithmetic), so the
+  /// searches decide every candidate in the scan, ties by CGAL's perturbation.
+  bool exact_lattice = false;
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').

@@ -47,6 +47,7 @@ class HostStarLayout {
     const std::size_t n = sites.points.size();
     const GridShape shape = make_grid_shape(sites.bounds, n, sites_per_bucket);
     grid_ = make_grid_view(shape, sites.bounds);
+    grid_.exact_lattice = exact_lattice_arithmetic(sites);
     if (quantile) {
       const int samples = quantile_sample_count(n);
       std::vector<double> xs(samples), ys(samples);

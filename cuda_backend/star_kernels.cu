@@ -310,6 +310,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<unsigned char> d_temp(scan_bytes, stream);
 
   GridView g = make_grid_view(shape, input.sites.bounds);
+  // EXPANSE_CUDA_EXACT_LATTICE=0 takes small lattices through the filters and the exact path
+  // as any input (for comparisons).
+  const char* lattice_env = std::getenv("EXPANSE_CUDA_EXACT_LATTICE");
+  g.exact_lattice = exact_lattice_arithmetic(input.sites) && !(lattice_env && std::strcmp(lattice_env, "0") == 0);
 
   timer.begin("bucket");
   // The evenness test's read-back goes through pinned word 15, read at once (the audit reuses it later).

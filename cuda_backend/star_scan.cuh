@@ -219,6 +219,25 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
+    if (g.exact_lattice) {
+      // The values are exact (exact_lattice_arithmetic): decided here, as decide_exactly
+      // would: equal distances by site id, cocircular candidates by CGAL's perturbation.
+      const double k = ex::apex_lift(edge, q).k;  // orient2d(a, b, p)
+      if (phase == nearest) {
+        verdict = best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best) ? 1 : 0;
+      } else if (k <= 0.0) {
+        verdict = 0;
+      } else if (best < 0) {
+        verdict = 1;
+      } else {
+        const double in = ex::apex_incircle_value(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
+        const int tie = in == 0.0 ? cocircular_perturbed(pa, pb, best_p, p) : 0;
+        verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie == kUncertain ? 2 : tie > 0 ? 1 : 0;
+      }
+      predicates += phase != nearest ? 1u + (k > 0.0 && best >= 0) : 0u;
+      if (ip == ia || ip == ib || ip == best) verdict = 0;
+      return verdict;
+    }
     if (phase == nearest)
       verdict = best < 0 ? 1
                 : best_d2 < 0x1p-960 ? 2

@@ -39,7 +39,7 @@ struct Family {
 
 const char* name_of(cuda::StarSearch search) { return search == cuda::StarSearch::boxes ? "boxes" : "rings"; }
 
-void check_family(const Family& family, bool quantile, cuda::StarSearch search) {
+cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::StarSearch search) {
   const std::vector<Point2> points = family.make(family.n, 5);
   const SiteSet sites = prepare_sites(points);
   const Hull hull = convex_hull(sites);
@@ -76,6 +76,7 @@ void check_family(const Family& family, bool quantile, cuda::StarSearch search) 
   const double bound = quantile ? family.max_deferred_quantile : family.max_deferred_uniform;
   CHECK(static_cast<double>(totals.deferred) <= bound * static_cast<double>(totals.sites));
   if (bound < 1.0) CHECK(decidable > 0);
+  return totals;
 }
 
 }  // namespace
@@ -284,4 +285,27 @@ TEST_CASE("CUDA grid choice: uniform cells for evenly spread sites, quantile cel
   }
   // Too few sites to tell: quantile cells, as before the test existed.
   CHECK_FALSE(chooses_uniform(generate_points("uniform", std::size_t{1} << 12, 1)));
+}
+
+TEST_CASE("CUDA star walk on the CPU: small integer lattices are decided in the scan, exactly", "[cuda][star]") {
+  // exact_lattice_arithmetic: integer sites spanning at most 5000 units, where the apex
+  // filters' arithmetic is exact, so ties go to CGAL's perturbation in the scan itself.
+  namespace p = test::points;
+  CHECK_FALSE(cuda::exact_lattice_arithmetic(prepare_sites(p::uniform(1000, 5))));
+  std::vector<Point2> wide = p::grid(1000, 5);
+  wide.push_back({5001.0, 0.0});  // 5001 units across
+  CHECK_FALSE(cuda::exact_lattice_arithmetic(prepare_sites(wide)));
+  // (rotated_grid_exact: one hull site has more neighbours than a star row holds.)
+  for (const Family& family : {Family{"grid", p::grid, 10000, 0.0, 0.0},
+                               Family{"rotated_grid_exact", p::rotated_grid_exact, 4000, 0.001, 0.001},
+                               Family{"square_boundary", p::square_boundary, 2000, 0.0, 0.0}}) {
+    DYNAMIC_SECTION(family.name) {
+      const SiteSet sites = prepare_sites(family.make(family.n, 5));
+      REQUIRE(cuda::exact_lattice_arithmetic(sites));
+      // Exact against CGAL, and no site deferred for a candidate left undecided, on both grids.
+      for (const bool quantile : {true, false}) {
+        CHECK(check_family(family, quantile, cuda::StarSearch::boxes).deferred_undecided == 0);
+      }
+    }
+  }
 }

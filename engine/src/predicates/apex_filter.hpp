@@ -72,10 +72,17 @@ EXPANSE_HD inline int apex_orient_filter(const ApexLift& p) {
   return trusted ? sign : uncertain;
 }
 
+/// incircle(a, b, c, p) from c's lift as apex_incircle_filter evaluates it: exact where every
+/// value it forms is an integer multiple of one unit below 2^53 units (small integer lattices:
+/// exact_lattice_arithmetic in cuda_backend/star_grid.hpp).
+EXPANSE_HD inline double apex_incircle_value(const ApexLift& c, const ApexPoint& p) {
+  return sub(add(mul(p.x, c.vx), mul(p.y, c.vy)), mul(p.d2, c.k));
+}
+
 /// Sign of incircle(a, b, c, p) for the candidate c whose lift is `c`, or `uncertain`.
 EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p) {
   const double ax = magnitude(p.x), ay = magnitude(p.y);
-  const double det = sub(add(mul(p.x, c.vx), mul(p.y, c.vy)), mul(p.d2, c.k));
+  const double det = apex_incircle_value(c, p);
   const double permanent = add(add(mul(ax, c.vx_perm), mul(ay, c.vy_perm)), mul(p.d2, c.k_perm));
   // Underflow losses (differences below 2): |C|^2's and |B|^2's through V and then |Px|, |Py|
   // (2^-1071 each), K's products through |P|^2, |P|^2's through K, the last three products.
