@@ -116,9 +116,6 @@ struct GridView {
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
   const int* x_guide = nullptr;  ///< quantile kind, optional: where to start searching
   const int* y_guide = nullptr;  ///< (QuantileGuide tables, over min_x/min_y and inv_w/inv_h)
-  /// The apex filters' arithmetic is exact on these sites (exact_lattice_arithmetic), so the
-  /// searches decide every candidate in the scan, ties by CGAL's perturbation.
-  bool exact_lattice = false;
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').

@@ -47,7 +47,7 @@ class HostStarLayout {
     const std::size_t n = sites.points.size();
     const GridShape shape = make_grid_shape(sites.bounds, n, sites_per_bucket);
     grid_ = make_grid_view(shape, sites.bounds);
-    grid_.exact_lattice = exact_lattice_arithmetic(sites);
+    exact_lattice_ = exact_lattice_arithmetic(sites);
     if (quantile) {
       const int samples = quantile_sample_count(n);
       std::vector<double> xs(samples), ys(samples);
@@ -108,7 +108,10 @@ class HostStarLayout {
       for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
         int* row = star_.data() + i * kStar;
         const StarWalk w = search == StarSearch::boxes
-                               ? walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i), row, budget)
+                               ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(),
+                                                                                           static_cast<int>(i), row, budget)
+                                                 : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i),
+                                                                                   row, budget))
                                : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
         ++totals.sites;
         work_of[i] = w.work;
@@ -190,6 +193,7 @@ class HostStarLayout {
   }
 
   GridView grid_{};
+  bool exact_lattice_ = false;  // exact_lattice_arithmetic: walks take the ExactLattice search
   std::vector<double2> points_;
   std::vector<int> to_site_;
   std::vector<std::uint32_t> cell_start_;

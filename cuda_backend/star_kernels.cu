@@ -37,16 +37,16 @@ namespace {
 /// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
-template <StarSearch Search, Walker By = Walker::thread>
+template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
-    w = walk_star_boxes<Walker::warp>(g, pred, i, row, budget);
+    w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search>(g, pred, i, row, budget);
+    w = walk_star_by<Search, ExactLattice>(g, pred, i, row, budget);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -79,7 +79,7 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   owned[i] = owned_triangles(star, inf, i);
 }
 
-template <StarSearch Search, int MinBlocks>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
@@ -89,7 +89,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
-  walk_and_record<Search>(g, pred, i, star, info, owned, counters, budget, pass, retry_list);
+  walk_and_record<Search, Walker::thread, ExactLattice>(g, pred, i, star, info, owned, counters, budget, pass,
+                                                         retry_list);
 }
 
 /// The second pass: the sites the first listed (counters[7] of them), with the full budget, each
@@ -98,7 +99,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
 /// divergent searches serialised; one site per warp on one thread still lost (285 against 228
 /// ms), a heavy site's walk being a chain of dependent loads that one thread runs at ~1 us per
 /// candidate.
-template <StarSearch Search, int MinBlocks>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
@@ -106,8 +107,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
   const unsigned count = counters[7];
   const unsigned warps = gridDim.x * (blockDim.x / 32);
   for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < count; k += warps)
-    walk_and_record<Search, Walker::warp>(g, pred, retry_list[k], star, info, owned, counters, budget,
-                                          WalkPass::retry, nullptr);
+    walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, retry_list[k], star, info, owned, counters, budget,
+                                                        WalkPass::retry, nullptr);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -313,7 +314,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // EXPANSE_CUDA_EXACT_LATTICE=0 takes small lattices through the filters and the exact path
   // as any input (for comparisons).
   const char* lattice_env = std::getenv("EXPANSE_CUDA_EXACT_LATTICE");
-  g.exact_lattice = exact_lattice_arithmetic(input.sites) && !(lattice_env && std::strcmp(lattice_env, "0") == 0);
+  const bool exact_lattice =
+      exact_lattice_arithmetic(input.sites) && !(lattice_env && std::strcmp(lattice_env, "0") == 0);
 
   timer.begin("bucket");
   // The evenness test's read-back goes through pinned word 15, read at once (the audit reuses it later).
@@ -360,19 +362,23 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
         order, WalkPass::only, nullptr);
   } else {
-    auto walk_passes = [&](auto min_blocks) {
+    auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
-      star_kernel<StarSearch::boxes, blocks><<<blocks_for(n, 128), 128, 0, stream>>>(
+      constexpr bool exact = decltype(lattice)::value;
+      star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
           g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
           pass_budget, order, pass, d_retry.get());
       if (two_passes)
-        star_retry_kernel<StarSearch::boxes, blocks><<<retry_blocks, 128, 0, stream>>>(
+        star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
     };
-    if (blocks_per_sm >= 8)
-      walk_passes(std::integral_constant<int, 8>{});
+    // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
+    if (exact_lattice)
+      walk_passes(std::integral_constant<int, 6>{}, std::true_type{});
+    else if (blocks_per_sm >= 8)
+      walk_passes(std::integral_constant<int, 8>{}, std::false_type{});
     else
-      walk_passes(std::integral_constant<int, 6>{});
+      walk_passes(std::integral_constant<int, 6>{}, std::false_type{});
   }
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
