@@ -9,6 +9,7 @@
 
 #include "device_geometry.cuh"
 #include "input/site_set.hpp"
+#include "predicates/exact_lattice.hpp"
 
 namespace expanse::detail::cuda {
 
@@ -55,20 +56,6 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
   return g;
 }
 
-/// Whether the apex filters' arithmetic (apex_filter.hpp) is exact on these sites, so that a
-/// search needs no exact path: integer inputs (scaled by 2^e, each coordinate an integer number
-/// of units 2^e) spanning at most 5000 units on either axis. Then every coordinate difference is
-/// an exact integer of at most D = 5000 units, the lifts' values stay below 4 D^3 and the
-/// incircle value and its partial sums below 12 D^4 < 2^53 units^4 (D^4 units^4 well above the
-/// smallest double for any e the scaling picks): each operation's result is representable, so
-/// each is exact. A 4096^2 lattice qualifies; its cocircular cells took most candidates of a
-/// search to the out-of-line exact decision (13 a site on 1M sites, counted on the CPU).
-inline bool exact_lattice_arithmetic(const SiteSet& sites) {
-  if (!sites.integer_coordinates || sites.points.empty()) return false;
-  const double unit = std::ldexp(1.0, sites.scale_exponent);
-  const double span = std::max(sites.bounds.max_x - sites.bounds.min_x, sites.bounds.max_y - sites.bounds.min_y);
-  return unit > 0.0 && span <= 5000.0 * unit;
-}
 
 /// How many coordinates the quantile boundaries are taken from.
 inline int quantile_sample_count(std::size_t n) {

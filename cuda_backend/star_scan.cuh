@@ -125,7 +125,7 @@ EXPANSE_DEVICE_NOINLINE int decide_exactly(const double2* points, bool nearest, 
 /// same sites; a warp just gets through long rows of cells 32 candidates at a time.
 enum class Walker { thread, warp };
 
-/// ExactLattice: the sites satisfy exact_lattice_arithmetic (star_grid.hpp), so the filters'
+/// ExactLattice: the sites satisfy exact_lattice_arithmetic (predicates/exact_lattice.hpp), so the filters'
 /// values are exact and every candidate is decided in the scan. A template parameter, not a
 /// flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2 uniform star
 /// kernel 62.6 -> 100.5 ms, session 8 call 5).

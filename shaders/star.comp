@@ -38,6 +38,10 @@ layout(constant_id = 2) const int LOOP_BUDGET = 1000000000;
 // incircle_filter on the points (the H100's driver: 80 ms against 85 with the apex filters at
 // 4096^2). Both decide the same signs or none; the exact path is the same.
 layout(constant_id = 3) const bool APEX_FILTERS = true;
+// The sites are a small integer lattice on which the apex filters' arithmetic is exact
+// (engine/src/predicates/exact_lattice.hpp): every candidate is decided in the scan, ties by
+// id (distances) and CGAL's perturbation (cocircular), instead of in the exact loop.
+layout(constant_id = 4) const bool EXACT_LATTICE = false;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -237,6 +241,18 @@ void main() {
                             ? ((best < 0 || d2 < best_d2 * (1.0lf - 1.0e-12lf)) ? 1
                                : (d2 > best_d2 * (1.0lf + 1.0e-12lf) ? 0 : 2))
                             : (o == -1 ? 0 : (o == UNCERTAIN ? 2 : (best < 0 ? 1 : (ic == -1 ? 0 : ic))));
+          if (EXACT_LATTICE) {
+            ApexLift lift = apex_lift(edge, edge2, q);  // lift.k: orient2d(a, b, p), exact
+            double value = apex_incircle_value(apex_lift(edge, edge2, apex_point(pa, best_p)), q);
+            int tie = value == 0.0lf && lift.k > 0.0lf && best >= 0 ? cocircular_perturbed_device(pa, pb, best_p, p) : 0;
+            verdict = phase == PHASE_NEAREST
+                          ? ((best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best)) ? 1 : 0)
+                          : (lift.k <= 0.0lf ? 0
+                             : best < 0      ? 1
+                             : value > 0.0lf ? 1
+                             : value < 0.0lf ? 0
+                             : tie == UNCERTAIN ? 2 : (tie > 0 ? 1 : 0));
+          }
           if (ip == ia || ip == ib || ip == best) verdict = 0;
           bool better = verdict == 1;
           best = better ? ip : best;

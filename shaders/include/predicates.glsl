@@ -93,6 +93,13 @@ int apex_orient_filter(ApexLift p) {
   return p.k_perm >= 6.26302612502804e-294lf ? sign_beyond(p.k, bound) : UNCERTAIN;  // 2^-974
 }
 
+// incircle(a, b, c, p) from c's lift as apex_incircle_filter forms it: exact on small integer
+// lattices (engine/src/predicates/exact_lattice.hpp).
+double apex_incircle_value(ApexLift c, dvec3 p) {
+  precise double det = (p.x * c.vx + p.y * c.vy) - p.z * c.k;
+  return det;
+}
+
 // Sign of incircle(a, b, c, p), c the candidate whose lift is `c`.
 int apex_incircle_filter(ApexLift c, dvec3 p) {
   precise double ax = mag(p.x), ay = mag(p.y);
@@ -190,11 +197,10 @@ bool lex_less(dvec2 p, dvec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y);
 // CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
 // CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
 // UNCERTAIN when an unperturbed sign could not be decided on the device.
-int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
-  int s = incircle_device(p0, p1, p2, q);
-  if (s != 0) return s;
-  // Walk the four points from the lexicographically largest down (two steps suffice).
-  // Index 3 is q.
+// incircle_perturbed_device's answer where p0, p1, p2, q are exactly cocircular: CGAL's
+// symbolic perturbation walks the four points from the lexicographically largest down (two
+// steps suffice). Index 3 is q.
+int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   dvec2 pts[4] = dvec2[4](p0, p1, p2, q);
   int order[4] = int[4](0, 1, 2, 3);
   for (int i = 1; i < 4; ++i) {  // insertion sort, ascending
@@ -217,6 +223,11 @@ int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
     if (o != 0) return o;
   }
   return UNCERTAIN;  // unreachable for distinct sites and a CCW triangle
+}
+
+int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
+  int s = incircle_device(p0, p1, p2, q);
+  return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q);
 }
 
 #endif

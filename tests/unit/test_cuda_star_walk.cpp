@@ -291,17 +291,17 @@ TEST_CASE("CUDA star walk on the CPU: small integer lattices are decided in the 
   // exact_lattice_arithmetic: integer sites spanning at most 5000 units, where the apex
   // filters' arithmetic is exact, so ties go to CGAL's perturbation in the scan itself.
   namespace p = test::points;
-  CHECK_FALSE(cuda::exact_lattice_arithmetic(prepare_sites(p::uniform(1000, 5))));
+  CHECK_FALSE(exact_lattice_arithmetic(prepare_sites(p::uniform(1000, 5))));
   std::vector<Point2> wide = p::grid(1000, 5);
   wide.push_back({5001.0, 0.0});  // 5001 units across
-  CHECK_FALSE(cuda::exact_lattice_arithmetic(prepare_sites(wide)));
+  CHECK_FALSE(exact_lattice_arithmetic(prepare_sites(wide)));
   // (rotated_grid_exact: one hull site has more neighbours than a star row holds.)
   for (const Family& family : {Family{"grid", p::grid, 10000, 0.0, 0.0},
                                Family{"rotated_grid_exact", p::rotated_grid_exact, 4000, 0.001, 0.001},
                                Family{"square_boundary", p::square_boundary, 2000, 0.0, 0.0}}) {
     DYNAMIC_SECTION(family.name) {
       const SiteSet sites = prepare_sites(family.make(family.n, 5));
-      REQUIRE(cuda::exact_lattice_arithmetic(sites));
+      REQUIRE(exact_lattice_arithmetic(sites));
       // Exact against CGAL, and no site deferred for a candidate left undecided, on both grids.
       for (const bool quantile : {true, false}) {
         CHECK(check_family(family, quantile, cuda::StarSearch::boxes).deferred_undecided == 0);

@@ -25,6 +25,7 @@
 #include "backends/vulkan/device_bucketing.hpp"
 #include "backends/vulkan/shader_registry.hpp"
 #include "input/parallel.hpp"
+#include "predicates/exact_lattice.hpp"
 
 namespace expanse::detail {
 namespace vk {
@@ -393,6 +394,15 @@ class VulkanBackend final : public Backend {
     return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
   }
 
+  // star.comp's EXACT_LATTICE, for small integer lattices (exact_lattice.hpp): their ties
+  // decided in the scan, not the exact loop, on GPUs. Not on CPU devices: lavapipe runs the
+  // perturbation's code for every candidate, masked, and its lattice star shader went from
+  // 1,300-1,324 to 2,371-2,442 ms at 1M (session 8). EXPANSE_VULKAN_EXACT_LATTICE=0/1 overrides.
+  bool exact_lattice_search() const {
+    if (const char* env = std::getenv("EXPANSE_VULKAN_EXACT_LATTICE")) return std::atoi(env) != 0;
+    return context_->physical().properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+  }
+
   std::uint32_t workgroup(std::uint32_t wanted) const {
     const auto& limits = context_->limits();
     return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
@@ -668,7 +678,8 @@ class VulkanBackend final : public Backend {
       device_sorted = at[crowded_cell_counter] == 0;
     }
 
-    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters()};
+    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters(),
+                                  exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage};
