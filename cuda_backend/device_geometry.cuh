@@ -35,7 +35,9 @@ EXPANSE_DEVICE_FORCE bool lex_less(double2 p, double2 q) {
 
 /// incircle_perturbed's answer where a, b, c, d are exactly cocircular (CCW a, b, c): CGAL's
 /// symbolic perturbation, which walks the four points from the lexicographically largest down.
-EXPANSE_DEVICE int cocircular_perturbed(double2 a, double2 b, double2 c, double2 d) {
+/// `orient` is exact orientation (or `uncertain`).
+template <class Orient>
+EXPANSE_DEVICE_FORCE int cocircular_perturbed_by(double2 a, double2 b, double2 c, double2 d, Orient orient) {
   const double2 p[4] = {a, b, c, d};
   int order[4] = {0, 1, 2, 3};
   for (int i = 1; i < 4; ++i)
@@ -58,6 +60,18 @@ EXPANSE_DEVICE int cocircular_perturbed(double2 a, double2 b, double2 c, double2
     if (o != 0) return o;
   }
   return -1;
+}
+
+EXPANSE_DEVICE int cocircular_perturbed(double2 a, double2 b, double2 c, double2 d) {
+  return cocircular_perturbed_by(a, b, c, d, [](double2 p, double2 q, double2 r) { return orient(p, q, r); });
+}
+
+/// orient2d's sign where its arithmetic is exact (small integer lattices, exact_lattice.hpp:
+/// each product is at most 2 D^2 units): no filter, certificate or expansion, so the lattice
+/// search keeps the exact arithmetic's registers out of its scan.
+EXPANSE_DEVICE_FORCE int orient_on_lattice(double2 a, double2 b, double2 c) {
+  const double det = ex::sub(ex::mul(ex::sub(a.x, c.x), ex::sub(b.y, c.y)), ex::mul(ex::sub(a.y, c.y), ex::sub(b.x, c.x)));
+  return det > 0.0 ? 1 : det < 0.0 ? -1 : 0;
 }
 
 /// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(a, b, c, d, perturb = true) for

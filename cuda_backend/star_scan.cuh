@@ -235,8 +235,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         verdict = 1;
       } else {
         const double in = ex::apex_incircle_value(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
-        const int tie = in == 0.0 ? cocircular_perturbed(pa, pb, best_p, p) : 0;
-        verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie == kUncertain ? 2 : tie > 0 ? 1 : 0;
+        const int tie = in == 0.0 ? cocircular_perturbed_by(
+                                        pa, pb, best_p, p,
+                                        [](double2 x, double2 y, double2 z) { return orient_on_lattice(x, y, z); }) : 0;
+        verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie > 0 ? 1 : 0;
       }
       predicates += phase != nearest ? 1u + (k > 0.0 && best >= 0) : 0u;
       if (ip == ia || ip == ib || ip == best) verdict = 0;
