@@ -125,10 +125,10 @@ EXPANSE_DEVICE_NOINLINE int decide_exactly(const double2* points, bool nearest, 
 /// same sites; a warp just gets through long rows of cells 32 candidates at a time.
 enum class Walker { thread, warp };
 
-/// ExactLattice: the sites satisfy exact_lattice_arithmetic (predicates/exact_lattice.hpp), so the filters'
-/// values are exact and every candidate is decided in the scan. A template parameter, not a
-/// flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2 uniform star
-/// kernel 62.6 -> 100.5 ms, session 8 call 5).
+/// ExactLattice: the sites satisfy exact_lattice_arithmetic (predicates/exact_lattice.hpp), so
+/// the filters' values are exact and every candidate is decided in the scan. A template
+/// parameter, not a flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2
+/// uniform star kernel 62.6 -> 100.5 ms, session 8 call 5).
 template <Walker By = Walker::thread, bool ExactLattice = false>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
 #if !defined(__CUDACC__)
@@ -225,7 +225,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     int verdict;
     if constexpr (ExactLattice) {
       // The values are exact (exact_lattice_arithmetic): decided here, as decide_exactly
-      // would: equal distances by site id, cocircular candidates by CGAL's perturbation.
+      // would: equal distances by site id, cocircular candidates by CGAL's perturbation, its
+      // orientations exact in plain doubles too (the exact fallback of orient(), inlined into
+      // the scan, held the 4096^2 lattice at 121 ms against 34: session 8 calls 6 and 11).
       const double k = ex::apex_lift(edge, q).k;  // orient2d(a, b, p)
       if (phase == nearest) {
         verdict = best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best) ? 1 : 0;

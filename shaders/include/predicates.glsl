@@ -194,9 +194,6 @@ int incircle_device(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
 
 bool lex_less(dvec2 p, dvec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
 
-// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
-// CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
-// UNCERTAIN when an unperturbed sign could not be decided on the device.
 // incircle_perturbed_device's answer where p0, p1, p2, q are exactly cocircular: CGAL's
 // symbolic perturbation walks the four points from the lexicographically largest down (two
 // steps suffice). Index 3 is q.
@@ -225,6 +222,9 @@ int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   return UNCERTAIN;  // unreachable for distinct sites and a CCW triangle
 }
 
+// CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
+// CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
+// UNCERTAIN when an unperturbed sign could not be decided on the device.
 int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   int s = incircle_device(p0, p1, p2, q);
   return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q);
