@@ -159,6 +159,7 @@ int main(int argc, char** argv) {
   bool pipeline = true;
   bool paper = false;
   bool transfers = false;
+  double sites_per_bucket = 0.0;  // 0: the layout's default
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) sizes = split(argv[++i]);
@@ -167,8 +168,12 @@ int main(int argc, char** argv) {
     else if (a == "--no-pipeline") pipeline = false;
     else if (a == "--paper") paper = true;
     else if (a == "--transfers") transfers = true;
+    else if (a == "--sites-per-bucket" && i + 1 < argc) sites_per_bucket = std::atof(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper] | --transfers\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper] "
+                   "[--sites-per-bucket X] | --transfers\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -181,6 +186,7 @@ int main(int argc, char** argv) {
   }
   if (transfers) return time_transfers(reps);
   Layout layout = paper ? Layout::paper() : Layout{};
+  if (sites_per_bucket > 0.0) layout.sites_per_bucket = sites_per_bucket;
   for (const auto& dist : dists) {
     for (const auto& side_text : sizes) {
       const std::size_t side = std::stoul(side_text);
