@@ -244,7 +244,7 @@ void main() {
           if (EXACT_LATTICE) {
             ApexLift lift = apex_lift(edge, edge2, q);  // lift.k: orient2d(a, b, p), exact
             double value = apex_incircle_value(apex_lift(edge, edge2, apex_point(pa, best_p)), q);
-            int tie = value == 0.0lf && lift.k > 0.0lf && best >= 0 ? cocircular_perturbed_device(pa, pb, best_p, p) : 0;
+            int tie = value == 0.0lf && lift.k > 0.0lf && best >= 0 ? cocircular_perturbed_lattice(pa, pb, best_p, p) : 0;
             verdict = phase == PHASE_NEAREST
                           ? ((best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best)) ? 1 : 0)
                           : (lift.k <= 0.0lf ? 0

@@ -222,6 +222,25 @@ int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   return UNCERTAIN;  // unreachable for distinct sites and a CCW triangle
 }
 
+// cocircular_perturbed_device on a small integer lattice (engine/src/predicates/exact_lattice.hpp),
+// where orientations are exact in plain doubles: the same walk without loops or branches (the
+// points' lexicographic ranks from their six comparisons, the three orientations it may need),
+// so that lavapipe's masked lanes pay little for it in the candidate loop.
+int cocircular_perturbed_lattice(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
+  bool l01 = lex_less(p0, p1), l02 = lex_less(p0, p2), l03 = lex_less(p0, q);
+  bool l12 = lex_less(p1, p2), l13 = lex_less(p1, q), l23 = lex_less(p2, q);
+  int r1 = int(l01) + int(!l12) + int(!l13);  // how many of the others precede p1
+  int r2 = int(l02) + int(l12) + int(!l23);
+  int r3 = int(l03) + int(l13) + int(l23);
+  precise double d0 = (q.x - p2.x) * (p1.y - p2.y) - (q.y - p2.y) * (p1.x - p2.x);    // orient(q, p1, p2)
+  precise double d1 = (p0.x - p2.x) * (q.y - p2.y) - (p0.y - p2.y) * (q.x - p2.x);    // orient(p0, q, p2)
+  precise double d2 = (p0.x - q.x) * (p1.y - q.y) - (p0.y - q.y) * (p1.x - q.x);      // orient(p0, p1, q)
+  int o0 = int(sign(d0)), o1 = int(sign(d1)), o2 = int(sign(d2));
+  int first = r2 == 3 ? o2 : (r1 == 3 ? o1 : o0);    // the largest point's orientation
+  int second = r2 == 2 ? o2 : (r1 == 2 ? o1 : o0);   // the next one's
+  return r3 == 3 ? -1 : (first != 0 ? first : (r3 == 2 ? -1 : (second != 0 ? second : UNCERTAIN)));
+}
+
 // CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
 // CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
 // UNCERTAIN when an unperturbed sign could not be decided on the device.
