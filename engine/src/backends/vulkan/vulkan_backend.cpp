@@ -398,7 +398,7 @@ class VulkanBackend final : public Backend {
   // decided in the scan, not the exact loop. The perturbation there is branch-free
   // (cocircular_perturbed_lattice): with the loops of the general one, lavapipe's masked lanes
   // ran it for every candidate and its 1M lattice star shader went from 1.30 to 2.37 s; now
-  // 1.27-1.28 -> 0.65-0.68 s; NVIDIA 4096^2: 52.0 -> 25.5 ms (session 8).
+  // 1.27-1.28 -> 0.65-0.68 s; NVIDIA 4096^2: 52.0 -> 23.3 ms (session 8, call 14).
   // EXPANSE_VULKAN_EXACT_LATTICE=0 takes lattices through the exact loop (comparisons, tests).
   static bool exact_lattice_search() {
     const char* env = std::getenv("EXPANSE_VULKAN_EXACT_LATTICE");
