@@ -1,7 +1,7 @@
 // CUDA backend benchmark: one JSON object per (distribution, n) on stdout.
 //
 //   expanse_bench_cuda [--sizes 512,1024,2048,4096] [--dists uniform,gaussian,grid,kuzmin]
-//                      [--reps 5] [--no-pipeline]
+//                      [--reps 5] [--no-pipeline] [--paper] [--sites-per-bucket X]
 //
 // Sizes are sides: n = side^2 points. Times are medians after one warm-up run:
 //   host_to_host_ms  expanse::triangulate(): std::vector points -> Mesh (triangles + neighbours)
@@ -18,8 +18,8 @@
 // instead times the transfers under a 4096^2 run, one JSON line each (median ms, GB/s): 805 MB
 // device -> host straight into pinned memory (the bus alone), and through the backend's pinned
 // staging into prefaulted pageable memory (32 MiB chunks and 8 copying threads, 64 MiB and 16);
-// 268 MB host -> device the same ways; and pinning the pageable pages in place (register and
-// release) with a copy straight into them.
+// 268 MB host -> device the same ways; and pinning the pageable pages in place and releasing
+// them (timed apart, in one piece and in 16), with a copy straight into them.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -105,12 +105,9 @@ int time_transfers(int reps) {
     report(("d2h" + suffix).c_str(), down_bytes, [&] { staging.download(pageable.data(), device, down_bytes, stream); });
     report(("h2d" + suffix).c_str(), up_bytes, [&] { staging.upload(device, pageable.data(), up_bytes, stream); });
   }
-  // The output's own pages pinned for the time of the copy: what registering and releasing
-  // them costs next to the copy it saves.
-  report("register", down_bytes, [&] { EXPANSE_CUDA(cudaHostRegister(pageable.data(), down_bytes, cudaHostRegisterDefault));
-                                       EXPANSE_CUDA(cudaHostUnregister(pageable.data())); });
-  // Pinning and releasing apart (release is what a caller would wait for after the copy), in
-  // one call and in 2 MiB-aligned pieces on all threads.
+  // The output's own pages pinned for the time of the copy: what pinning and releasing them
+  // cost next to the copy it saves, apart (release is what a caller waits for after the copy),
+  // in one call and in 2 MiB-aligned pieces on all threads.
   const auto pin_apart = [&](std::size_t pieces) {
     const std::size_t piece = ((down_bytes / pieces + (std::size_t{2} << 20) - 1) >> 21) << 21;
     const auto each = [&](auto&& call) {
@@ -261,10 +258,10 @@ int main(int argc, char** argv) {
       } catch (const Error& e) {
         error = std::string(to_string(e.code())) + ": " + e.what();
       }
-      std::printf("{\"device\":\"%s\",\"layout\":\"%s\",\"distribution\":\"%s\",\"side\":%zu,\"n\":%zu,\"sites\":%zu,"
-                  "\"hull\":%zu,\"reps\":%d,",
-                  backend->device_name().c_str(), paper ? "paper" : "per_site", dist.c_str(), side, n,
-                  sites.points.size(), hull.sites.size(), reps);
+      std::printf("{\"device\":\"%s\",\"layout\":\"%s\",\"sites_per_bucket\":%g,\"distribution\":\"%s\",\"side\":%zu,"
+                  "\"n\":%zu,\"sites\":%zu,\"hull\":%zu,\"reps\":%d,",
+                  backend->device_name().c_str(), paper ? "paper" : "per_site", layout.sites_per_bucket, dist.c_str(),
+                  side, n, sites.points.size(), hull.sites.size(), reps);
       if (!error.empty()) {
         std::string escaped;
         for (char c : error) escaped += (c == '"' || c == '\\') ? ' ' : c;

@@ -15,7 +15,6 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <optional>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -348,19 +347,9 @@ void run_in_process_peer(const RunContext& context, const Config& config,
 }
 
 int run(const Config& config) {
-  std::ofstream file;
+  bench::JsonLinesOutput sink(config.out);
   RunContext context;
-  context.out = &std::cout;
-  if (!config.out.empty()) {
-    if (auto parent = std::filesystem::path(config.out).parent_path(); !parent.empty())
-      std::filesystem::create_directories(parent);
-    file.open(config.out, std::ios::app);
-    if (!file) {
-      std::cerr << "expanse-bench: cannot open " << config.out << "\n";
-      return 2;
-    }
-    context.out = &file;
-  }
+  context.out = &sink.stream();
   context.machine = bench::machine_info();
   context.commit = bench::git_commit();
   context.run_id = bench::utc_now() + "-" + std::to_string(::getpid());

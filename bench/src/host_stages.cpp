@@ -198,9 +198,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) set_host_threads(threads);
 
-  std::ofstream file;
-  if (!output.empty()) file.open(output, std::ios::app);
-  std::ostream& out = output.empty() ? std::cout : file;
+  bench::JsonLinesOutput sink(output);
+  std::ostream& out = sink.stream();
   const auto wants = [&](const char* stage) { return std::find(stages.begin(), stages.end(), stage) != stages.end(); };
   const std::string run_id = bench::utc_now();
   const auto machine = bench::machine_info();

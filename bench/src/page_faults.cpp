@@ -51,9 +51,8 @@ int main(int argc, char** argv) {
   app.add_option("--note", note, "free text stored in every record");
   CLI11_PARSE(app, argc, argv);
 
-  std::ofstream file;
-  if (!output.empty()) file.open(output, std::ios::app);
-  std::ostream& out = output.empty() ? std::cout : file;
+  bench::JsonLinesOutput sink(output);
+  std::ostream& out = sink.stream();
   const std::size_t pages = (mib << 20) / sizeof(Page);
 
   const std::string date = bench::utc_now();

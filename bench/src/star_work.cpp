@@ -39,9 +39,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
 
-  std::ofstream file;
-  if (!output.empty()) file.open(output, std::ios::app);
-  std::ostream& out = output.empty() ? std::cout : file;
+  bench::JsonLinesOutput sink(output);
+  std::ostream& out = sink.stream();
   const std::string run_id = bench::utc_now();
   const auto machine = bench::machine_info();
   for (const std::string& dist : dists) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -72,6 +73,18 @@ std::vector<double> load_average() {
 std::string git_commit() {
   if (const char* forced = std::getenv("EXPANSE_COMMIT"); forced && *forced) return forced;
   return build_commit();
+}
+
+JsonLinesOutput::JsonLinesOutput(const std::string& path) : to_file_(!path.empty()) {
+  if (!to_file_) return;
+  std::error_code ignored;  // a folder that cannot be made shows as the open's failure
+  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty())
+    std::filesystem::create_directories(parent, ignored);
+  file_.open(path, std::ios::app);
+  if (!file_) {
+    std::cerr << "cannot open " << path << " to append JSON lines\n";
+    std::exit(2);
+  }
 }
 
 std::string utc_now() {

@@ -2,6 +2,8 @@
 // What every benchmark record carries besides its times: where, when, on which commit.
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,19 @@ std::vector<double> load_average();
 /// The commit measured: $EXPANSE_COMMIT if set, else the commit the programs were built from
 /// ("-dirty" when tracked files differed from it at build time).
 std::string git_commit();
+
+/// Where a benchmark's JSON lines go: appended to `path` (its folder made if needed), or stdout
+/// when the path is empty. A path that cannot be opened ends the program before it measures
+/// anything (message on stderr, exit status 2), so that no run's records are silently lost.
+class JsonLinesOutput {
+ public:
+  explicit JsonLinesOutput(const std::string& path);
+  std::ostream& stream() { return to_file_ ? static_cast<std::ostream&>(file_) : std::cout; }
+
+ private:
+  std::ofstream file_;
+  bool to_file_ = false;
+};
 
 /// UTC date and time, ISO 8601.
 std::string utc_now();
