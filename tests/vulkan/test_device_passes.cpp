@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <tuple>
 #include <random>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "expanse/triangulate.hpp"
 #include "harness.hpp"
 #include "hull/convex_hull.hpp"
+#include "input/morton.hpp"
 #include "input/site_set.hpp"
 #include "seam/adjacency_audit.hpp"
 
@@ -135,6 +138,85 @@ void check_same_output(const std::string& name, const std::vector<Point2>& point
   unsetenv("EXPANSE_VULKAN_STAGED");
 }
 
+// The site preparation on the device (prepare_sites.comp, radix_sort.comp) against the host's
+// prepare_sites and convex_hull, then grown on the GPU path from the sites it left on the
+// device: the same sites, input indices, representatives and hull, and the same triangles as
+// grown from the host's preparation. Where a run of equal Morton codes is too long for the
+// pairwise search (`long_runs`), the device sorts by (code, x, y) and the order within a run
+// may differ: the sites are then compared as a set, and checked to be in Morton order.
+void check_preparation(const std::string& name, const std::vector<Point2>& points) {
+  const detail::SiteSet host = detail::prepare_sites(points);
+  const detail::Hull host_hull = detail::convex_hull(host);
+  const detail::InputScan scan = detail::scan_input(points);
+  const detail::InputHull input_hull = detail::convex_hull_of_input(points, scan);
+  setenv("EXPANSE_VULKAN_PREPARE", "device", 1);
+  setenv("EXPANSE_VULKAN_STAGED", "1", 1);
+  setenv("EXPANSE_VULKAN_BUCKET", "device", 1);
+  const Layout layout{};
+  auto backend = detail::make_vulkan_backend(-1);
+  std::optional<detail::InputGrowResult> device =
+      backend->grow_from_input({points, scan, [&] { return &input_hull.sites; }, layout});
+  const detail::GrowResult from_host = backend->grow({host, host_hull, layout});
+  unsetenv("EXPANSE_VULKAN_PREPARE");
+  unsetenv("EXPANSE_VULKAN_STAGED");
+  unsetenv("EXPANSE_VULKAN_BUCKET");
+  VK_CHECK_THAT(device.has_value(), "%s: the device declined", name.c_str());
+  if (!device) return;
+  const detail::SiteSet& sites = device->sites;
+  VK_CHECK_THAT(sites.points.size() == host.points.size(), "%s: %zu sites on the device, %zu on the host",
+                name.c_str(), sites.points.size(), host.points.size());
+  if (sites.points.size() != host.points.size()) return;
+  VK_CHECK_THAT(sites.representative == host.representative, "%s: representatives differ", name.c_str());
+  VK_CHECK_THAT(sites.scale_exponent == host.scale_exponent, "%s: scale differs", name.c_str());
+  const std::size_t m = sites.points.size();
+  const bool same_order = std::equal(sites.points.begin(), sites.points.end(), host.points.begin(),
+                                     [](const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }) &&
+                          std::equal(sites.input_index.begin(), sites.input_index.end(), host.input_index.begin());
+  const bool long_runs = has_stage(device->grown, "vulkan: prepare (sort by point)") ||
+                         std::any_of(device->grown.device_stages.begin(), device->grown.device_stages.end(),
+                                     [](const StageTime& s) { return s.name == "vulkan: prepare (sort by point)"; });
+  if (!long_runs) {
+    VK_CHECK_THAT(same_order, "%s: the sites or their order differ from prepare_sites'", name.c_str());
+  } else {
+    const detail::Quantiser q(host.bounds);
+    bool in_order = true;
+    for (std::size_t k = 1; k < m; ++k)
+      in_order &= detail::morton_code(q.x(sites.points[k - 1].x), q.y(sites.points[k - 1].y)) <=
+                  detail::morton_code(q.x(sites.points[k].x), q.y(sites.points[k].y));
+    VK_CHECK_THAT(in_order, "%s: the sites are not in Morton order", name.c_str());
+    auto as_set = [](const detail::SiteSet& s) {
+      std::vector<std::tuple<double, double, std::int32_t>> v;
+      for (std::size_t k = 0; k < s.points.size(); ++k) v.emplace_back(s.points[k].x, s.points[k].y, s.input_index[k]);
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    VK_CHECK_THAT(as_set(sites) == as_set(host), "%s: the sites differ from prepare_sites'", name.c_str());
+  }
+  // The hull: the same points in the same order, and its predecessors.
+  bool hull_same = device->hull.sites.size() == host_hull.sites.size();
+  for (std::size_t k = 0; hull_same && k < host_hull.sites.size(); ++k)
+    hull_same = sites.input_index[std::size_t(device->hull.sites[k])] == host.input_index[std::size_t(host_hull.sites[k])];
+  VK_CHECK_THAT(hull_same, "%s: the hull differs from convex_hull's", name.c_str());
+  std::size_t on_hull = 0;
+  for (std::size_t k = 0; k < m; ++k) on_hull += device->hull.predecessor[k] >= 0;
+  VK_CHECK_THAT(on_hull == device->hull.sites.size(), "%s: %zu sites have a hull predecessor, %zu on the hull",
+                name.c_str(), on_hull, device->hull.sites.size());
+  // The growth from the device's sites: the same triangles, in input indices.
+  auto in_input = [](const detail::PartialTriangulation& partial, const detail::SiteSet& s) {
+    std::vector<Triangle> t = partial.triangles;
+    for (Triangle& tri : t)
+      for (auto& v : tri) v = s.input_index[std::size_t(v)];
+    return canonical(std::move(t));
+  };
+  VK_CHECK_THAT(in_input(device->grown.partial, sites) == in_input(from_host.partial, host),
+                "%s: %zu triangles grown from the device's sites, %zu from the host's, or others", name.c_str(),
+                device->grown.partial.triangles.size(), from_host.partial.triangles.size());
+  VK_CHECK_THAT(!has_stage(device->grown, "vulkan: stage"), "%s: the sites were uploaded again", name.c_str());
+  std::printf("  %-40s %7zu sites  %s  triangles %7zu  deferred %5zu\n", name.c_str(), m,
+              long_runs ? "sorted again by point" : "Morton order = host's", device->grown.partial.triangles.size(),
+              device->grown.partial.deferred_expansions);
+}
+
 // A CPU triangulation as a partial one in SiteSet ids, with its adjacency.
 struct Reference {
   detail::SiteSet sites;
@@ -241,6 +323,33 @@ void test_device_passes() {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
+  {
+    // Preparation: the radix sort's tiles (2048 with 256-invocation workgroups) and its scans at
+    // three levels; duplicates in short runs; long runs (copies of one point, a cluster finer
+    // than the quantisation, +0 and -0); the scale past 2^1023; integers.
+    std::vector<Point2> p(300000);
+    for (auto& q : p) q = {unit(rng), unit(rng)};
+    check_preparation("uniform 300000", p);
+    std::vector<Point2> d;
+    for (int k = 0; k < 40000; ++k) d.push_back(p[std::size_t(k) % 9000]);
+    check_preparation("40000, 9000 distinct, interleaved", d);
+    std::vector<Point2> c(p.begin(), p.begin() + 20000);
+    for (int k = 0; k < 500; ++k) c.insert(c.begin() + 37 * k, p[5]);
+    for (int k = 0; k < 300; ++k) c.push_back({0.25 + 1e-12 * unit(rng), 0.75 + 1e-12 * unit(rng)});
+    for (int k = 0; k < 200; ++k) c.push_back({k % 2 ? -0.0 : 0.0, 0.5});
+    check_preparation("long runs of one code", c);
+    std::vector<Point2> tiny(20000);
+    for (auto& q : tiny) q = {std::ldexp(unit(rng), -1060), std::ldexp(unit(rng), -1060)};
+    check_preparation("subnormal 20000", tiny);
+    std::vector<Point2> g;
+    for (int x = 0; x < 200; ++x)
+      for (int y = 0; y < 200; ++y) g.push_back({double(x) - 100.0, double(y) * 3.0});
+    std::shuffle(g.begin(), g.end(), rng);
+    check_preparation("grid 200x200, shuffled", g);
+    std::vector<Point2> gauss(50000);
+    for (auto& q : gauss) q = {1e6 + normal(rng), -1e6 + normal(rng)};
+    check_preparation("gaussian 50000 off the origin", gauss);
+  }
   {
     // Grids from one (crowded) cell to more cells than sites; the largest scans three levels
     // of tiles (1024 per tile with 256-invocation workgroups).

@@ -104,6 +104,7 @@ InputScan scan_input(std::span<const Point2> input) {
   scan.integer_coordinates = integers;
   scan.scale_exponent = exact_scale_exponent(max_abs, min_nonzero_abs);
   scan.factor = scan.scale_exponent <= 1023 ? std::ldexp(1.0, scan.scale_exponent) : 0.0;
+  if (std::isfinite(min_nonzero_abs)) scan.smallest_nonzero = std::ldexp(min_nonzero_abs, scan.scale_exponent);
   if (n > 0) {
     const Point2 low = scan.scaled({box.min_x, box.min_y}), high = scan.scaled({box.max_x, box.max_y});
     scan.bounds = {low.x, low.y, high.x, high.y};

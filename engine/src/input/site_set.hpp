@@ -2,6 +2,7 @@
 // Validated, normalised, duplicate-free input: what every backend and the seam stage work on.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -25,6 +26,8 @@ struct InputScan {
   /// Every input coordinate an integer: a lattice, whose cocircular cells make the devices
   /// settle many candidates exactly (a backend may pick kernels for that; never correctness).
   bool integer_coordinates = false;
+  /// The smallest nonzero |coordinate| of the scaled points (infinity when there is none).
+  double smallest_nonzero = std::numeric_limits<double>::infinity();
 
   /// p multiplied by 2^scale_exponent: exact, one rounding as ldexp does.
   Point2 scaled(const Point2& p) const {

@@ -22,20 +22,6 @@ struct BucketParams {
 static_assert(sizeof(BucketParams) == 64);
 enum BucketPass : std::int32_t { pass_count = 0, pass_scatter, pass_order, pass_predecessor, pass_restore };
 
-// scan.comp's push constants and passes.
-struct ScanParams {
-  std::int32_t count;
-  std::int32_t offset;
-  std::int32_t level_in_sums;
-  std::int32_t sums_offset;
-  std::int32_t first_tile;
-  std::int32_t pass;
-  std::int32_t pad[2];
-};
-static_assert(sizeof(ScanParams) == 32);
-enum ScanPass : std::int32_t { pass_tiles = 0, pass_add };
-constexpr std::size_t scan_per_thread = 4;  // scan.comp's PER_THREAD
-
 // Largest cell bucket.comp ranks: the rank loop must stay well under lavapipe's 65535 back
 // edges per SIMD batch; more sites in one cell and the host buckets instead.
 constexpr std::uint32_t max_ranked_cell = 4096;
@@ -43,33 +29,19 @@ constexpr std::uint32_t max_ranked_cell = 4096;
 }  // namespace
 
 DeviceBucketing::DeviceBucketing(Context& context, std::uint32_t workgroup)
-    : context_(context), workgroup_(workgroup) {
-  const auto& limits = context.limits();
-  scan_workgroup_ = std::max(1u, std::min({256u, limits.maxComputeWorkGroupSize[0],
-                                          limits.maxComputeWorkGroupInvocations}));
+    : context_(context), workgroup_(workgroup), scan_(context, "scan") {
   const std::uint32_t bucket_spec[] = {workgroup_, max_ranked_cell};
   bucket_ = &context.kernel("bucket", spirv::bucket(), 12, sizeof(BucketParams), bucket_spec);
-  const std::uint32_t scan_spec[] = {scan_workgroup_};
-  scan_ = &context.kernel("scan", spirv::scan(), 2, sizeof(ScanParams), scan_spec);
 }
 
-VkDeviceSize DeviceBucketing::scan_sums_bytes(std::size_t count) const {
-  const std::size_t tile = scan_per_thread * scan_workgroup_;
-  std::size_t total = 0;
-  do {
-    count = (count + tile - 1) / tile;  // one total per tile of this level
-    total += count;
-  } while (count > 1);
-  return VkDeviceSize(total) * 4;
-}
+VkDeviceSize DeviceBucketing::scan_sums_bytes(std::size_t count) const { return scan_.sums_bytes(count); }
 
 void DeviceBucketing::bind(const BucketingBuffers& b) {
   Buffer* bucket_bindings[] = {b.input_sites, b.input_predecessor, b.cell_key,  b.cell_start,
                                b.cursor,      b.unordered,         b.sorted_sites, b.to_site,
                                b.to_sorted,   b.predecessor,       b.triangles, b.counters};
   bucket_->bind(bucket_bindings);
-  Buffer* scan_bindings[] = {b.cell_start, b.scan_sums};
-  scan_->bind(scan_bindings);
+  scan_.bind(*b.cell_start, *b.scan_sums);
   cell_start_ = b.cell_start;
   cursor_ = b.cursor;
   counters_ = b.counters;
@@ -87,30 +59,6 @@ void DeviceBucketing::dispatch_over(Recording& rec, Kernel& kernel, void* params
   }
 }
 
-// Inclusive scan of `count` ints at `offset` (of cell_start, or of scan_sums when in_sums),
-// tile totals at sums_offset of scan_sums; the levels above are scanned recursively.
-void DeviceBucketing::record_scan(Recording& rec, std::size_t count, std::size_t offset,
-                                  bool in_sums, std::size_t sums_offset) {
-  const std::size_t tile = scan_per_thread * scan_workgroup_;
-  const std::size_t tiles = (count + tile - 1) / tile;
-  const std::size_t max_groups = context_.limits().maxComputeWorkGroupCount[0];
-  ScanParams params{std::int32_t(count), std::int32_t(offset), in_sums ? 1 : 0,
-                    std::int32_t(sums_offset), 0, pass_tiles, {0, 0}};
-  auto each_tile = [&] {
-    for (std::size_t first = 0; first < tiles; first += max_groups) {
-      params.first_tile = std::int32_t(first);
-      rec.dispatch(*scan_, &params, std::uint32_t(std::min(tiles - first, max_groups)));
-    }
-  };
-  each_tile();
-  rec.barrier();
-  if (tiles <= 1) return;
-  record_scan(rec, tiles, sums_offset, true, sums_offset + tiles);
-  params.pass = pass_add;
-  each_tile();
-  rec.barrier();
-}
-
 void DeviceBucketing::record_sort(Recording& rec, const GridShape& grid, std::size_t sites) {
   const std::size_t cells = std::size_t(grid.cells) * std::size_t(grid.cells);
   rec.fill(*cell_start_, 0);
@@ -121,7 +69,7 @@ void DeviceBucketing::record_sort(Recording& rec, const GridShape& grid, std::si
                       grid.cells, std::int32_t(sites), 0, pass_count, 0, {0, 0, 0}};
   dispatch_over(rec, *bucket_, &params, params.first, sites);
   rec.barrier();
-  record_scan(rec, cells + 1, 0, false, 0);
+  scan_.record(rec, cells + 1);
   rec.copy(*cell_start_, *cursor_, VkDeviceSize(cells) * 4);
   rec.barrier();
   for (BucketPass pass : {pass_scatter, pass_order, pass_predecessor}) {

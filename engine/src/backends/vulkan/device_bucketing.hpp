@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "backends/vulkan/device_scan.hpp"
 #include "backends/vulkan/vk_context.hpp"
 
 namespace expanse::detail::vk {
@@ -56,12 +57,10 @@ class DeviceBucketing {
  private:
   void dispatch_over(Recording& rec, Kernel& kernel, void* params, std::int32_t& first,
                      std::size_t count);
-  void record_scan(Recording& rec, std::size_t count, std::size_t offset, bool in_sums,
-                   std::size_t sums_offset);
   Context& context_;
-  std::uint32_t workgroup_, scan_workgroup_;
+  std::uint32_t workgroup_;
   Kernel* bucket_ = nullptr;
-  Kernel* scan_ = nullptr;
+  DeviceScan scan_;
   Buffer* cell_start_ = nullptr;
   Buffer* cursor_ = nullptr;
   Buffer* counters_ = nullptr;

@@ -12,5 +12,7 @@ std::span<const std::uint32_t> predicate_test();
 std::span<const std::uint32_t> bucket();
 std::span<const std::uint32_t> scan();
 std::span<const std::uint32_t> audit();
+std::span<const std::uint32_t> prepare_sites();
+std::span<const std::uint32_t> radix_sort();
 
 }  // namespace expanse::detail::vk::spirv

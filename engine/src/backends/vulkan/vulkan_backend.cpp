@@ -13,17 +13,21 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <future>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <ranges>
 #include <thread>
 #include <unordered_map>
 
 #include "backends/backend.hpp"
 #include "backends/vulkan/device_bucketing.hpp"
+#include "backends/vulkan/device_preparation.hpp"
 #include "backends/vulkan/shader_registry.hpp"
+#include "input/morton.hpp"
 #include "input/parallel.hpp"
 #include "predicates/exact_lattice.hpp"
 
@@ -307,6 +311,38 @@ class VulkanBackend final : public Backend {
     return result;
   }
 
+  // Where the per-site layout's sites are prepared (scaled, in Morton order, duplicates merged).
+  // On a GPU, on the device (prepare_sites.comp, radix_sort.comp): on the H100's host,
+  // prepare_sites took 117-184 ms at 4096^2 on 16 threads, about as long as the device's whole
+  // growth (session 8). On a CPU device (lavapipe), on the host: the shaders would run on the
+  // same cores as prepare_sites' native code. EXPANSE_VULKAN_PREPARE=host or =device overrides
+  // (the tests run the device's preparation on lavapipe).
+  bool prepares_sites(const Layout& layout) const override {
+    if (layout.seeding == Layout::Seeding::paper_blocks) return false;
+    const char* where = std::getenv("EXPANSE_VULKAN_PREPARE");
+    if (where && std::strcmp(where, "host") == 0) return false;
+    if (where && std::strcmp(where, "device") == 0) return true;
+    return context_->physical().properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+  }
+
+  std::optional<InputGrowResult> grow_from_input(const InputGrowInput& input) override {
+    if (!prepares_sites(input.layout)) return std::nullopt;
+    std::lock_guard lock(context_->mutex());
+    const std::size_t messages = context_->instance().message_count();
+    std::optional<InputGrowResult> result(std::in_place);
+    if (!prepare_on_device(input, *result)) return std::nullopt;
+    // Device predicates need every nonzero coordinate at least 2^-200 (device_safe): else the
+    // exact CPU stage does it all, as grow() leaves it.
+    if (input.scan.smallest_nonzero < 0x1p-200) {
+      result->grown.partial.deferred_expansions = std::size_t(result->sites.size());
+    } else {
+      grow_stars(GrowInput{result->sites, result->hull, input.layout, input.recycled}, result->grown,
+                 /*sites_on_device=*/true);
+    }
+    context_->instance().throw_if_messages(messages);
+    return result;
+  }
+
  private:
   struct Sorted : GridFrame {
     std::vector<Point2> points;            // sites sorted by cell (row-major)
@@ -492,7 +528,13 @@ class VulkanBackend final : public Backend {
   enum Kept : std::size_t {
     k_input_sites, k_input_predecessor, k_cell_key, k_cursor, k_unordered, k_to_sorted,
     k_scan_sums, k_sites, k_cell_start, k_predecessor, k_to_site, k_triangles, k_counters,
-    k_stars, k_site_info, k_neighbors, k_unresolved, k_open_slots, k_words
+    k_stars, k_site_info, k_neighbors, k_unresolved, k_open_slots, k_words,
+    // The preparation's (device_preparation.hpp); it leaves the sites in k_input_sites and the
+    // hull predecessors in k_input_predecessor.
+    k_prep_raw, k_prep_keys0, k_prep_keys1, k_prep_values0, k_prep_values1, k_prep_sorted,
+    k_prep_first, k_prep_heads, k_prep_head_sums, k_prep_counts, k_prep_count_sums,
+    k_prep_site_input, k_prep_rank, k_prep_representative, k_prep_hull_input, k_prep_hull_sites,
+    k_prep_counters
   };
   Buffer& kept(Kept slot, VkDeviceSize bytes, bool host_visible) {
     return context_->buffers().get(slot, bytes, host_visible);
@@ -556,18 +598,166 @@ class VulkanBackend final : public Backend {
     if (bad) throw Error(ErrorCode::internal, "Vulkan: the device returned an invalid site id");
   }
 
-  void grow_stars(const GrowInput& input, GrowResult& result) {
+  bool cpu_device() const {
+    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  }
+
+  // A CPU device (lavapipe) runs on host memory: its buffers are written and read in place,
+  // with no staging copies, and the adjacency is derived from the stars on the host, where
+  // pointer chasing costs a load instead of a loop over the SIMD lanes. EXPANSE_VULKAN_STAGED=1
+  // takes the GPU path on any device (staging copies, star_links.comp): the tests use it to
+  // run that path on lavapipe.
+  bool works_in_place() const {
+    const char* staged = std::getenv("EXPANSE_VULKAN_STAGED");
+    return cpu_device() && !(staged && std::strcmp(staged, "0") != 0 && *staged);
+  }
+
+  // The raw input prepared on the device (device_preparation.hpp), as prepare_sites and
+  // convex_hull would have made it for the rest of the pipeline: the sites and their input
+  // indices, the representatives and the hull come back to the host (the seam stage and the
+  // output need them); the sites and the hull predecessors stay in k_input_sites and
+  // k_input_predecessor for grow_stars. False, with nothing consumed, when the device cannot
+  // (too large for its buffers) or the hull is degenerate: the host prepares instead.
+  bool prepare_on_device(const InputGrowInput& input, InputGrowResult& result) {
+    Context& ctx = *context_;
+    const std::size_t n = input.points.size();
+    if (n >= (std::size_t{1} << 30) || bytes_of(n, 16) > ctx.max_buffer_bytes()) return false;
+    const InputScan& scan = input.scan;
+    const Quantiser quantiser(scan.bounds);
+    PreparationScale scale;
+    scale.origin[0] = quantiser.origin_x;
+    scale.origin[1] = quantiser.origin_y;
+    scale.scale = quantiser.scale;
+    if (scan.scale_exponent <= 1023) {
+      scale.factor = scan.factor;
+    } else {  // past 2^1023 (subnormal input): two exact steps, as ldexp's one
+      scale.factor = 0x1p1000;
+      scale.second_factor = std::ldexp(1.0, scan.scale_exponent - 1000);
+    }
+
+    // Every point its own representative, written on another host thread while the device
+    // works (the usual case; the device's map replaces it where points repeat).
+    SiteSet& sites = result.sites;
+    auto identity = std::async(std::launch::async, [&sites, n] {
+      auto& representative = sites.representative;
+      representative.reserve(n);
+      advise_huge_pages(representative.data(), n * sizeof(std::int32_t));
+      const auto ids = std::views::iota(std::int32_t{0}, std::int32_t(n));
+      representative.assign(ids.begin(), ids.end());
+    });
+    auto& host = result.grown.host_stages;
+    auto& device = result.grown.device_stages;
+    const bool in_place = works_in_place();
+    DevicePreparation prep(ctx, workgroup(64));
+    Buffer& counters = kept(k_prep_counters, 64, false);
+    Buffer& words = kept(k_words, 64, true);
+    PreparationBuffers buffers{&kept(k_prep_raw, bytes_of(n, 16), false),
+                               {&kept(k_prep_keys0, bytes_of(n, 8), false), &kept(k_prep_keys1, bytes_of(n, 8), false)},
+                               {&kept(k_prep_values0, bytes_of(n, 4), false), &kept(k_prep_values1, bytes_of(n, 4), false)},
+                               &kept(k_prep_sorted, bytes_of(n, 16), false),
+                               &kept(k_prep_first, bytes_of(n, 4), false),
+                               &kept(k_prep_heads, bytes_of(n, 4), false),
+                               &kept(k_prep_head_sums, prep.head_sums_bytes(n), false),
+                               &kept(k_prep_counts, prep.counts_bytes(n), false),
+                               &kept(k_prep_count_sums, prep.count_sums_bytes(n), false),
+                               &kept(k_input_sites, bytes_of(n, 16), in_place),
+                               &kept(k_prep_site_input, bytes_of(n, 4), false),
+                               &kept(k_prep_rank, bytes_of(n, 4), false),
+                               &kept(k_prep_representative, bytes_of(n, 4), false),
+                               &counters,  // the hull's buffers, bound once it is known
+                               &counters,
+                               &kept(k_input_predecessor, bytes_of(n, 4), in_place),
+                               &counters};
+    prep.bind(buffers);
+
+    auto start = Clock::now();
+    const StagingRing::Upload raw[] = {{input.points.data(), buffers.raw->handle(), 0, bytes_of(n, 16)}};
+    ctx.staging().upload(raw);
+    host.push_back({"vulkan: upload of the input", ms_since(start)});
+
+    start = Clock::now();
+    std::uint32_t word[16];
+    const auto submit = [&](auto&& record) {
+      Recording rec(ctx);
+      rec.barrier();  // after the ring's copies
+      record(rec);
+      rec.copy(counters, words, 64);
+      rec.barrier_to_host();
+      for (StageTime& stage : rec.submit()) device.push_back(std::move(stage));
+      std::memcpy(word, words.mapped(), sizeof(word));
+    };
+    submit([&](Recording& rec) {
+      prep.record_sort(rec, n, scale);
+      rec.timestamp("vulkan: prepare (sort)");
+      prep.record_compact(rec, n);
+      rec.timestamp("vulkan: prepare (merge)");
+    });
+    if (word[long_run_counter] != 0) {
+      // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
+      // finer than the quantisation): sorted again by (code, x, y), equal points side by side.
+      submit([&](Recording& rec) {
+        prep.record_sort_by_point(rec, n);
+        rec.timestamp("vulkan: prepare (sort by point)");
+        prep.record_compact(rec, n);
+        rec.timestamp("vulkan: prepare (merge)");
+      });
+    }
+    const std::size_t m = word[site_count_counter];
+    host.push_back({"vulkan: prepare on the device (submit + wait)", ms_since(start)});
+    if (m < 1 || m > n) throw Error(ErrorCode::internal, "Vulkan: the device's preparation counted " + std::to_string(m) + " sites");
+
+    start = Clock::now();
+    const std::vector<std::int32_t>* hull_input = input.hull();
+    host.push_back({"vulkan: wait for the host's hull", ms_since(start)});
+    if (!hull_input) return false;  // collinear: the host's path handles it
+    start = Clock::now();
+    const std::size_t h = hull_input->size();
+    buffers.hull_input = &kept(k_prep_hull_input, bytes_of(h, 4), false);
+    buffers.hull_sites = &kept(k_prep_hull_sites, bytes_of(h, 4), false);
+    prep.bind(buffers);
+    const StagingRing::Upload hull_upload[] = {{hull_input->data(), buffers.hull_input->handle(), 0, bytes_of(h, 4)}};
+    ctx.staging().upload(hull_upload);
+    submit([&](Recording& rec) {
+      prep.record_hull(rec, h);
+      rec.timestamp("vulkan: prepare (hull)");
+    });
+
+    // The host's copy of what the device prepared.
+    sites.scale_exponent = scan.scale_exponent;
+    sites.integer_coordinates = scan.integer_coordinates;
+    sites.bounds = scan.bounds;
+    resize_for_parallel_write(sites.points, m);
+    resize_for_parallel_write(sites.input_index, m);
+    Hull& hull = result.hull;
+    hull.sites.resize(h);
+    identity.get();
+    std::vector<StagingRing::Download> pieces{
+        {buffers.hull_sites->handle(), 0, hull.sites.data(), bytes_of(h, 4)},
+        {buffers.site_points->handle(), 0, sites.points.data(), bytes_of(m, 16)},
+        {buffers.site_input->handle(), 0, sites.input_index.data(), bytes_of(m, 4)}};
+    if (m < n) pieces.push_back({buffers.representative->handle(), 0, sites.representative.data(), bytes_of(n, 4)});
+    ctx.staging().download(pieces);
+    resize_for_parallel_write(hull.predecessor, m);
+    detail::parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
+      std::fill(hull.predecessor.begin() + std::ptrdiff_t(begin), hull.predecessor.begin() + std::ptrdiff_t(end), -1);
+    });
+    for (std::size_t k = 0; k < h; ++k) {
+      const std::int32_t site = hull.sites[k];
+      if (site < 0 || std::size_t(site) >= m) throw Error(ErrorCode::internal, "Vulkan: the device mapped a hull site out of range");
+      hull.predecessor[std::size_t(site)] = hull.sites[(k + h - 1) % h];
+    }
+    host.push_back({"vulkan: hull and copy of the sites to the host", ms_since(start)});
+    return true;
+  }
+
+  // sites_on_device: prepare_on_device left the sites in k_input_sites and the hull
+  // predecessors in k_input_predecessor (nothing to upload for the device's bucketing).
+  void grow_stars(const GrowInput& input, GrowResult& result, bool sites_on_device = false) {
     Context& ctx = *context_;
     const std::size_t n = std::size_t(input.sites.size());
     const double per_bucket = input.layout.sites_per_bucket > 0 ? input.layout.sites_per_bucket : 2.0;
-    // A CPU device (lavapipe) runs on host memory: its buffers are written and read in place,
-    // with no staging copies, and the adjacency is derived from the stars on the host, where
-    // pointer chasing costs a load instead of a loop over the SIMD lanes.
-    const bool cpu_device = ctx.physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    // EXPANSE_VULKAN_STAGED=1 takes the GPU path on any device (staging copies, star_links.comp):
-    // the tests use it to run that path on lavapipe.
-    const char* staged = std::getenv("EXPANSE_VULKAN_STAGED");
-    const bool in_place = cpu_device && !(staged && std::strcmp(staged, "0") != 0 && *staged);
+    const bool cpu_device = this->cpu_device();
+    const bool in_place = works_in_place();
 
     auto start = Clock::now();
     const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
@@ -652,7 +842,9 @@ class VulkanBackend final : public Backend {
     bool device_sorted = false;
     if (device_bucketing) {
       start = Clock::now();
-      if (in_place) {
+      if (sites_on_device) {
+        // prepare_on_device left them there.
+      } else if (in_place) {
         copy_on_host_threads(input_sites->mapped(), input.sites.points.data(), bytes_of(n, 16));
         copy_on_host_threads(input_predecessor->mapped(), input.hull.predecessor.data(),
                              bytes_of(n, 4));
@@ -664,7 +856,7 @@ class VulkanBackend final : public Backend {
             {input.hull.predecessor.data(), input_predecessor->handle(), 0, bytes_of(n, 4)}};
         ctx.staging().upload(pieces);
       }
-      result.host_stages.push_back({"vulkan: stage", ms_since(start)});
+      if (!sites_on_device) result.host_stages.push_back({"vulkan: stage", ms_since(start)});
 
       start = Clock::now();
       Recording rec(ctx);
