@@ -23,6 +23,8 @@
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const int MAX_CELL = 4096;
+// Quantile cells (quantile_cells.glsl) instead of uniform ones, as star.comp's.
+layout(constant_id = 2) const bool QUANTILE_CELLS = false;
 
 const int PASS_COUNT = 0;
 const int PASS_SCATTER = 1;
@@ -44,6 +46,8 @@ layout(std430, set = 0, binding = 10) buffer Triangles { int triangles[]; };
 // star.comp's counters; [0] triangles written; [8] a cell too crowded to rank; [9] a triangle
 // with an invalid site id
 layout(std430, set = 0, binding = 11) buffer Counters { uint counters[]; };
+// Quantile cells' boundaries (unused with uniform cells).
+layout(std430, set = 0, binding = 12) readonly buffer CellBounds { double cell_bounds[]; };
 
 layout(push_constant) uniform Params {
   dvec2 origin;
@@ -57,6 +61,7 @@ layout(push_constant) uniform Params {
 } params;
 
 #include "cells.glsl"
+#include "quantile_cells.glsl"
 
 void main() {
   const int i = params.first + int(gl_GlobalInvocationID.x);
@@ -75,7 +80,10 @@ void main() {
   if (i >= params.count) return;
   if (params.pass == PASS_COUNT) {
     const dvec2 p = input_sites[i];
-    const int c = cell_coord(p.y, params.origin.y, params.inv_width.y, params.cells) * params.cells +
+    const int c =
+        QUANTILE_CELLS
+            ? quantile_cell(p.y, params.cells - 1, params.cells - 1) * params.cells + quantile_cell(p.x, 0, params.cells - 1)
+            : cell_coord(p.y, params.origin.y, params.inv_width.y, params.cells) * params.cells +
                   cell_coord(p.x, params.origin.x, params.inv_width.x, params.cells);
     cell_key[i] = c;
     atomicAdd(cell_start[c + 1], 1);

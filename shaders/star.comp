@@ -42,6 +42,9 @@ layout(constant_id = 3) const bool APEX_FILTERS = true;
 // (engine/src/predicates/exact_lattice.hpp): every candidate is decided in the scan, ties by
 // id (distances) and CGAL's perturbation (cocircular), instead of in the exact loop.
 layout(constant_id = 4) const bool EXACT_LATTICE = false;
+// Quantile cells (quantile_cells.glsl, for clustered and heavy-tailed inputs) instead of
+// uniform ones (cells.glsl); the host chooses (star_cells.cpp).
+layout(constant_id = 5) const bool QUANTILE_CELLS = false;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -57,6 +60,8 @@ layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer Star { ivec4 star4[]; };
 // Site s: (star info (star_common.glsl), first output triangle of s or -1).
 layout(std430, set = 0, binding = 6) writeonly buffer SiteInfo { ivec2 site_info[]; };
+// Quantile cells' boundaries (unused with uniform cells).
+layout(std430, set = 0, binding = 7) readonly buffer CellBounds { double cell_bounds[]; };
 
 layout(push_constant) uniform Params {
   dvec2 origin;
@@ -78,6 +83,7 @@ int predecessor_of(int s) { return texelFetch(predecessor_texels, s).x; }
 
 #include "cells.glsl"
 #include "predicates.glsl"
+#include "quantile_cells.glsl"
 #include "star_common.glsl"
 
 const int PHASE_NEAREST = 0;  // nearest neighbour v0 of s
@@ -92,6 +98,8 @@ const int NONE_BELOW = 1 << 29;  // an empty box: lo = NONE_BELOW, hi = -NONE_BE
 const double NN_REACH = 0.5lf;
 
 ivec2 cell_of(dvec2 p) {
+  if (QUANTILE_CELLS)
+    return ivec2(quantile_cell(p.x, 0, params.cells - 1), quantile_cell(p.y, params.cells - 1, params.cells - 1));
   return ivec2(cell_coord(p.x, params.origin.x, params.inv_width.x, params.cells),
                cell_coord(p.y, params.origin.y, params.inv_width.y, params.cells));
 }
@@ -186,8 +194,15 @@ void main() {
   // Boxes: visited (done), target (being scanned: target minus visited, row segment by row
   // segment; segment `part` 0 is left of the visited box or the whole row, 1 right of it).
   ivec2 vlo = ivec2(NONE_BELOW), vhi = ivec2(-NONE_BELOW);
-  dvec2 nn_reach = NN_REACH / params.inv_width;  // inv_width > 0: the sites are not collinear
-  ivec2 tlo = cell_of(ps - nn_reach), thi = cell_of(ps + nn_reach);
+  ivec2 tlo, thi;
+  if (QUANTILE_CELLS) {  // cells of any width: the first box is the site's cell
+    tlo = cell_of(ps);
+    thi = tlo;
+  } else {
+    dvec2 nn_reach = NN_REACH / params.inv_width;  // inv_width > 0: the sites are not collinear
+    tlo = cell_of(ps - nn_reach);
+    thi = cell_of(ps + nn_reach);
+  }
   int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
   int pending = -1;
   bool big_scan = false, restart = false;

@@ -111,6 +111,10 @@ void check_same_output(const std::string& name, const std::vector<Point2>& point
     const detail::GrowResult device = grow_with(sites, hull, "device", staged);
     VK_CHECK_THAT(has_stage(device, "vulkan: bucket (submit + wait)"),
                   "%s, %s: the device did not bucket", name.c_str(), path);
+    const bool quantile = name.find("quantile cells") != std::string::npos;
+    VK_CHECK_THAT(has_stage(device, "vulkan: grid (quantile cells)") == quantile &&
+                      has_stage(host, "vulkan: grid (quantile cells)") == quantile,
+                  "%s, %s: %s cells expected", name.c_str(), path, quantile ? "quantile" : "uniform");
     VK_CHECK_THAT(has_stage(device, "vulkan: bucket") == crowded,
                   "%s, %s: host fallback %s", name.c_str(), path, crowded ? "expected" : "unexpected");
     VK_CHECK_THAT(canonical(host.partial.triangles) == canonical(device.partial.triangles),
@@ -375,6 +379,17 @@ void test_device_passes() {
     for (int x = 0; x < 150; ++x)
       for (int y = 0; y < 150; ++y) p.push_back({double(x), double(y)});
     check_same_output("grid 150x150 (cocircular)", p, false);
+  }
+  {
+    // A kuzmin disc (mass within r: 1 - 1 / sqrt(1 + r^2)): uniform cells would crowd its centre,
+    // so the grid has quantile cells (star_cells.cpp), looked up alike by bucket.comp and the host.
+    std::vector<Point2> p(60000);
+    for (auto& q : p) {
+      const double u = 0.999999 * unit(rng), r = std::sqrt(1.0 / ((1.0 - u) * (1.0 - u)) - 1.0);
+      const double a = 6.283185307179586 * unit(rng);
+      q = {r * std::cos(a), r * std::sin(a)};
+    }
+    check_same_output("kuzmin 60000 (quantile cells)", p, false);
   }
   {
     // 5000 sites within 1e-9 of one point and three far away: the grid is sized by the

@@ -28,10 +28,10 @@ constexpr std::uint32_t max_ranked_cell = 4096;
 
 }  // namespace
 
-DeviceBucketing::DeviceBucketing(Context& context, std::uint32_t workgroup)
+DeviceBucketing::DeviceBucketing(Context& context, std::uint32_t workgroup, bool quantile_cells)
     : context_(context), workgroup_(workgroup), scan_(context, "scan") {
-  const std::uint32_t bucket_spec[] = {workgroup_, max_ranked_cell};
-  bucket_ = &context.kernel("bucket", spirv::bucket(), 12, sizeof(BucketParams), bucket_spec);
+  const std::uint32_t bucket_spec[] = {workgroup_, max_ranked_cell, quantile_cells ? 1u : 0u};
+  bucket_ = &context.kernel("bucket", spirv::bucket(), 13, sizeof(BucketParams), bucket_spec);
 }
 
 VkDeviceSize DeviceBucketing::scan_sums_bytes(std::size_t count) const { return scan_.sums_bytes(count); }
@@ -39,7 +39,8 @@ VkDeviceSize DeviceBucketing::scan_sums_bytes(std::size_t count) const { return 
 void DeviceBucketing::bind(const BucketingBuffers& b) {
   Buffer* bucket_bindings[] = {b.input_sites, b.input_predecessor, b.cell_key,  b.cell_start,
                                b.cursor,      b.unordered,         b.sorted_sites, b.to_site,
-                               b.to_sorted,   b.predecessor,       b.triangles, b.counters};
+                               b.to_sorted,   b.predecessor,       b.triangles, b.counters,
+                               b.cell_bounds};
   bucket_->bind(bucket_bindings);
   scan_.bind(*b.cell_start, *b.scan_sums);
   cell_start_ = b.cell_start;

@@ -32,6 +32,7 @@ struct BucketingBuffers {
   Buffer* triangles;          // star kernel output, mapped back in place
   Buffer* counters;           // star kernel counters: [0] triangles; [8], [9] set here
   Buffer* scan_sums;          // scan_sums_bytes(cells^2 + 1)
+  Buffer* cell_bounds;        // quantile cells' boundaries (star_cells.hpp); any buffer else
 };
 
 /// counters[] words bucket.comp sets (the star kernel uses 0..3, star_links.comp 4..6).
@@ -40,8 +41,9 @@ constexpr std::size_t invalid_site_id_counter = 9;   // the star kernel emitted 
 
 class DeviceBucketing {
  public:
-  /// Compiles (once per context) the two kernels with `workgroup` invocations per group.
-  DeviceBucketing(Context& context, std::uint32_t workgroup);
+  /// Compiles (once per context) the two kernels with `workgroup` invocations per group, for
+  /// uniform cells (cells.glsl) or quantile cells (quantile_cells.glsl).
+  DeviceBucketing(Context& context, std::uint32_t workgroup, bool quantile_cells);
   /// Bytes scan.comp needs beside `count` elements for its tile totals, at every level.
   VkDeviceSize scan_sums_bytes(std::size_t count) const;
   /// Points the kernels at these buffers; only between submissions.

@@ -27,6 +27,7 @@
 #include "backends/vulkan/device_bucketing.hpp"
 #include "backends/vulkan/device_preparation.hpp"
 #include "backends/vulkan/shader_registry.hpp"
+#include "backends/vulkan/star_cells.hpp"
 #include "input/morton.hpp"
 #include "input/parallel.hpp"
 #include "predicates/exact_lattice.hpp"
@@ -86,14 +87,6 @@ void parallel_chunks(std::size_t count, unsigned workers, Body&& body) {
   if (failure) std::rethrow_exception(failure);
 }
 
-// Cell index on the host: the same two correctly rounded operations as cell_coord() in
-// shaders/include/grid.glsl (this file builds with -ffp-contract=off), so host bucketing and
-// device box tests agree bit for bit.
-int cell_coord(double x, double origin, double inv_width, int cells) {
-  const double t = (x - origin) * inv_width;
-  return int(std::clamp(std::floor(t), 0.0, double(cells - 1)));
-}
-
 // Device predicates are only valid when no value they form can be subnormal (see
 // shaders/include/predicates.glsl): every nonzero |coordinate| must be at least 2^-200.
 // A pass over every site, on all host threads (a GPU waits for it).
@@ -124,60 +117,6 @@ struct StarParams {
   std::int32_t pad[3];
 };
 static_assert(sizeof(StarParams) == 64);
-
-// Cells per side of the star grid. A search costs the rows and the sites of the boxes it scans
-// (empty cells are free: a row of a box is one range of sites), so the cells are sized for the
-// density where the typical site lies — the site-weighted median of a coarse histogram — not
-// the mean: `per_bucket` sites per cell there. For uniform inputs both agree; for a gaussian
-// the median site sees about 8 times the mean density. Capped at 16 cells per site and by the
-// largest storage buffer.
-//
-// Above 2^20 sites the histogram counts every (n / 2^20)-th site (Morton order, so the sample is
-// spread over the plane) into the same bins: reading all 16.8M sites was the `vulkan: grid`
-// stage's 15-17 ms at 4096^2 on the H100's host. Counted on the 2-core VM, the cells per side
-// then stay within 1.1% of the full count's for uniform, gaussian, kuzmin, grid, clusters and
-// disk inputs at 2M and 16.8M sites (fewer bins, as many sites to each, lost the small
-// clusters: 7,097 cells per side became 4,016).
-int star_grid_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer) {
-  const std::size_t n = std::size_t(sites.size());
-  constexpr std::size_t most_samples = std::size_t{1} << 20;
-  const std::size_t stride = std::max<std::size_t>(1, n / most_samples);
-  const std::size_t samples = n / stride;
-  const double wx = sites.bounds.max_x - sites.bounds.min_x;
-  const double wy = sites.bounds.max_y - sites.bounds.min_y;
-  const int h = int(std::clamp(std::sqrt(double(n) / 64.0), 1.0, 256.0));
-  const std::size_t bin_count = std::size_t(h) * std::size_t(h);
-  const double ix = wx > 0 ? h / wx : 0.0, iy = wy > 0 ? h / wy : 0.0;
-  // The histogram on all host threads, one set of bins per chunk (at most 256 KB each), summed:
-  // done on one thread it was the `vulkan: grid` stage's 121 ms at 4096^2 on the H100's host.
-  const std::size_t chunks = detail::chunk_count(samples);
-  std::vector<std::vector<std::uint32_t>> chunk_bins(chunks);
-  detail::parallel_chunks(samples, chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t>& own = chunk_bins[c];
-    own.assign(bin_count, 0);
-    for (std::size_t i = begin; i < end; ++i) {
-      const Point2& p = sites.points[i * stride];
-      ++own[std::size_t(cell_coord(p.y, sites.bounds.min_y, iy, h)) * std::size_t(h) +
-            std::size_t(cell_coord(p.x, sites.bounds.min_x, ix, h))];
-    }
-  });
-  std::vector<std::uint32_t> bins = std::move(chunk_bins[0]);
-  for (std::size_t c = 1; c < chunks; ++c)
-    for (std::size_t b = 0; b < bin_count; ++b) bins[b] += chunk_bins[c][b];
-  std::sort(bins.begin(), bins.end(), std::greater<>());
-  std::size_t seen = 0;
-  double median_bin = 1.0;
-  for (std::uint32_t c : bins) {
-    seen += c;
-    median_bin = c;
-    if (2 * seen >= samples) break;
-  }
-  const double crowding =
-      std::clamp(median_bin * double(bins.size()) / double(std::max<std::size_t>(samples, 1)), 1.0, 64.0);
-  const double most = std::min({8192.0, std::sqrt(16.0 * double(n) + 1.0),
-                                std::floor(std::sqrt(double(max_buffer / 4) - 1.0))});
-  return int(std::clamp(std::ceil(std::sqrt(crowding * double(n) / per_bucket)), 1.0, std::max(1.0, most)));
-}
 
 // audit.comp's push constants.
 struct AuditParams {
@@ -451,16 +390,16 @@ class VulkanBackend final : public Backend {
   // `predecessor` (mapped memory: the device's own on unified-memory devices, else staging).
   // A counting sort in O(n + cells), its passes split over the host threads; sites keep their
   // SiteSet order within a cell, so the result does not depend on the thread count.
-  struct StarGrid : GridFrame {
+  struct StarGrid {
     std::vector<std::int32_t> to_site;  // sorted id -> SiteSet id
   };
 
-  static StarGrid bucket_stars(const GrowInput& input, int cells, Point2* points,
+  static StarGrid bucket_stars(const GrowInput& input, const StarCells& plan, Point2* points,
                                std::int32_t* cell_start, std::int32_t* predecessor) {
     const SiteSet& sites = input.sites;
     const std::size_t n = std::size_t(sites.size());
+    const int cells = plan.cells;
     StarGrid g;
-    static_cast<GridFrame&>(g) = GridFrame(sites, cells);
     const std::size_t cell_count = std::size_t(cells) * std::size_t(cells);
     // Each worker counts into its own array of all cells: at most 2^24 counts in all (64 MB).
     const unsigned workers = unsigned(std::clamp<std::size_t>(
@@ -472,9 +411,7 @@ class VulkanBackend final : public Backend {
       std::int32_t* count = fill[w].data();
       for (std::size_t i = begin; i < end; ++i) {
         const Point2& p = sites.points[i];
-        const int cx = cell_coord(p.x, g.origin[0], g.inv_width[0], cells);
-        const int cy = cell_coord(p.y, g.origin[1], g.inv_width[1], cells);
-        cell[i] = cy * cells + cx;
+        cell[i] = plan.y(p.y) * cells + plan.x(p.x);
         ++count[cell[i]];
       }
     });
@@ -534,7 +471,7 @@ class VulkanBackend final : public Backend {
     k_prep_raw, k_prep_keys0, k_prep_keys1, k_prep_values0, k_prep_values1, k_prep_sorted,
     k_prep_first, k_prep_heads, k_prep_head_sums, k_prep_counts, k_prep_count_sums,
     k_prep_site_input, k_prep_rank, k_prep_representative, k_prep_hull_input, k_prep_hull_sites,
-    k_prep_counters
+    k_prep_counters, k_cell_bounds
   };
   Buffer& kept(Kept slot, VkDeviceSize bytes, bool host_visible) {
     return context_->buffers().get(slot, bytes, host_visible);
@@ -558,19 +495,19 @@ class VulkanBackend final : public Backend {
   // star kernel's recording starts with a barrier, which orders it after those copies). Used
   // on CPU devices, and where a cell is too crowded for the device's ranking (bucket.comp,
   // MAX_CELL).
-  void bucket_on_host(const GrowInput& input, int cells, Buffer& sites, Buffer& cell_start,
+  void bucket_on_host(const GrowInput& input, const StarCells& plan, Buffer& sites, Buffer& cell_start,
                       Buffer& predecessor, StarGrid& grid) {
     const std::size_t n = std::size_t(input.sites.size());
-    const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
+    const std::size_t cell_entries = std::size_t(plan.cells) * std::size_t(plan.cells) + 1;
     if (sites.mapped() && cell_start.mapped() && predecessor.mapped()) {
-      grid = bucket_stars(input, cells, static_cast<Point2*>(sites.mapped()),
+      grid = bucket_stars(input, plan, static_cast<Point2*>(sites.mapped()),
                           static_cast<std::int32_t*>(cell_start.mapped()),
                           static_cast<std::int32_t*>(predecessor.mapped()));
       return;
     }
     std::vector<Point2> points(n);
     std::vector<std::int32_t> starts(cell_entries), predecessors(n);
-    grid = bucket_stars(input, cells, points.data(), starts.data(), predecessors.data());
+    grid = bucket_stars(input, plan, points.data(), starts.data(), predecessors.data());
     const StagingRing::Upload pieces[] = {
         {points.data(), sites.handle(), 0, bytes_of(n, 16)},
         {starts.data(), cell_start.handle(), 0, bytes_of(cell_entries, 4)},
@@ -760,10 +697,10 @@ class VulkanBackend final : public Backend {
     const bool in_place = works_in_place();
 
     auto start = Clock::now();
-    const int cells = star_grid_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
+    const StarCells frame = plan_star_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
+    const int cells = frame.cells;
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
-    const GridFrame frame(input.sites, cells);
-    result.host_stages.push_back({"vulkan: grid", ms_since(start)});
+    result.host_stages.push_back({frame.quantile ? "vulkan: grid (quantile cells)" : "vulkan: grid", ms_since(start)});
 
     // Each triangle is emitted once and there are at most 2n - 5.
     const std::size_t capacity = 2 * n;
@@ -788,7 +725,7 @@ class VulkanBackend final : public Backend {
     const bool device_bucketing = bucket_on_device(cpu_device);
     // Its kernels are compiled on first use only: CPU devices bucket on the host.
     std::optional<DeviceBucketing> bucketing;
-    if (device_bucketing) bucketing.emplace(ctx, wg);
+    if (device_bucketing) bucketing.emplace(ctx, wg, frame.quantile);
     start = Clock::now();
     // The star kernel's inputs: host-visible where the host buckets in place.
     Buffer& sites = kept(k_sites, bytes_of(n, 16), in_place);
@@ -799,6 +736,17 @@ class VulkanBackend final : public Backend {
     Buffer& counters = kept(k_counters, 64, in_place);
     Buffer& stars = kept(k_stars, bytes_of(n, 4 * star_capacity), in_place);
     Buffer& site_info = kept(k_site_info, bytes_of(n, 8), in_place);
+    // Quantile cells' boundaries (a placeholder with uniform cells): written now, before the
+    // first submission reads them.
+    Buffer& cell_bounds = kept(k_cell_bounds, std::max<VkDeviceSize>(16, bytes_of(frame.bounds.size(), 8)), in_place);
+    if (!frame.bounds.empty()) {
+      if (in_place) {
+        std::memcpy(cell_bounds.mapped(), frame.bounds.data(), bytes_of(frame.bounds.size(), 8));
+      } else {
+        const StagingRing::Upload bounds[] = {{frame.bounds.data(), cell_bounds.handle(), 0, bytes_of(frame.bounds.size(), 8)}};
+        ctx.staging().upload(bounds);
+      }
+    }
     Buffer *neighbors = nullptr, *unresolved = nullptr, *words = nullptr;
     // Device bucketing: the inputs in SiteSet order, written by the host (in place on a CPU
     // device, else staged), and buffers the device alone makes and reads.
@@ -812,7 +760,7 @@ class VulkanBackend final : public Backend {
                       &kept(k_unordered, bytes_of(n, 4), false), &sites, to_site,
                       &kept(k_to_sorted, bytes_of(n, 4), false), &predecessor, &triangles,
                       &counters,
-                      &kept(k_scan_sums, bucketing->scan_sums_bytes(cell_entries), false)});
+                      &kept(k_scan_sums, bucketing->scan_sums_bytes(cell_entries), false), &cell_bounds});
     }
     // The device audits the adjacency where it has the triangles in SiteSet ids and the hull
     // (device bucketing), and made the adjacency (GPU path): open slots, as many as unresolved.
@@ -873,16 +821,17 @@ class VulkanBackend final : public Backend {
     }
 
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters(),
-                                  exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u};
+                                  exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u,
+                                  frame.quantile ? 1u : 0u};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage};
-    Kernel& kernel = ctx.kernel("star", spirv::star(), 7, sizeof(StarParams), spec, star_types);
+    const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage, storage};
+    Kernel& kernel = ctx.kernel("star", spirv::star(), 8, sizeof(StarParams), spec, star_types);
     TexelView site_view(ctx, sites, VK_FORMAT_R32G32B32A32_UINT, bytes_of(n, 16));
     TexelView cell_view(ctx, cell_start, VK_FORMAT_R32_SINT, bytes_of(cell_entries, 4));
     TexelView predecessor_view(ctx, predecessor, VK_FORMAT_R32_SINT, bytes_of(n, 4));
-    Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info};
-    const TexelView* texels[] = {&site_view, &cell_view, &predecessor_view, nullptr, nullptr, nullptr, nullptr};
+    Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info, &cell_bounds};
+    const TexelView* texels[] = {&site_view, &cell_view, &predecessor_view, nullptr, nullptr, nullptr, nullptr, nullptr};
     kernel.bind(bindings, texels);
     Kernel* links = nullptr;
     if (!in_place) {
@@ -895,7 +844,7 @@ class VulkanBackend final : public Backend {
     start = Clock::now();
     StarGrid host_grid;  // when the host bucketed: its sorted id -> SiteSet id
     if (!device_sorted) {
-      bucket_on_host(input, cells, sites, cell_start, predecessor, host_grid);
+      bucket_on_host(input, frame, sites, cell_start, predecessor, host_grid);
       result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
       start = Clock::now();
     }
@@ -1430,16 +1379,16 @@ DeviceBuckets bucket_on_device(Context& ctx, const SiteSet& sites, const Hull& h
   const std::size_t n = std::size_t(sites.size());
   const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
   const std::uint32_t wg = 64;
-  DeviceBucketing bucketing(ctx, wg);
+  DeviceBucketing bucketing(ctx, wg, /*quantile_cells=*/false);
   Buffer input_sites(ctx, bytes_of(n, 16), false), input_predecessor(ctx, bytes_of(n, 4), false);
   Buffer cell_key(ctx, bytes_of(n, 4), false), cell_start(ctx, bytes_of(cell_entries, 4), false);
   Buffer cursor(ctx, bytes_of(cell_entries, 4), false), unordered(ctx, bytes_of(n, 4), false);
   Buffer sorted(ctx, bytes_of(n, 16), false), to_site(ctx, bytes_of(n, 4), false);
   Buffer to_sorted(ctx, bytes_of(n, 4), false), predecessor(ctx, bytes_of(n, 4), false);
   Buffer triangles(ctx, 16, false), counters(ctx, 64, false);
-  Buffer scan_sums(ctx, bucketing.scan_sums_bytes(cell_entries), false);
+  Buffer scan_sums(ctx, bucketing.scan_sums_bytes(cell_entries), false), no_bounds(ctx, 16, false);
   bucketing.bind({&input_sites, &input_predecessor, &cell_key, &cell_start, &cursor, &unordered,
-                  &sorted, &to_site, &to_sorted, &predecessor, &triangles, &counters, &scan_sums});
+                  &sorted, &to_site, &to_sorted, &predecessor, &triangles, &counters, &scan_sums, &no_bounds});
   Buffer upload(ctx, bytes_of(n, 20), true);
   std::memcpy(upload.mapped(), sites.points.data(), bytes_of(n, 16));
   std::memcpy(static_cast<char*>(upload.mapped()) + bytes_of(n, 16), hull.predecessor.data(), bytes_of(n, 4));
