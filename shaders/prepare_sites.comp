@@ -23,6 +23,7 @@
 //                       counters[1] = the number of sites
 //   PASS_HULL           the hull's input indices -> site ids
 //   PASS_PREDECESSOR    the hull predecessors, in site ids (the rest filled with -1 before)
+//   PASS_SAMPLE         every params.mode-th site into sorted[] (the grid's sample, star_cells.hpp)
 #extension GL_ARB_gpu_shader_fp64 : enable
 
 layout(local_size_x_id = 0) in;
@@ -38,6 +39,7 @@ const int PASS_FIRST_OF_GROUP = 6;
 const int PASS_COMPACT = 7;
 const int PASS_HULL = 8;
 const int PASS_PREDECESSOR = 9;
+const int PASS_SAMPLE = 10;
 
 layout(std430, set = 0, binding = 0) buffer Raw { dvec2 raw[]; };  // input order, scaled in place
 layout(std430, set = 0, binding = 1) buffer Keys0 { uvec2 keys0[]; };
@@ -47,7 +49,7 @@ layout(std430, set = 0, binding = 4) buffer Values1 { int values1[]; };
 layout(std430, set = 0, binding = 5) buffer Sorted { dvec2 sorted[]; };  // the points in sorted order
 layout(std430, set = 0, binding = 6) buffer First { int first[]; };
 layout(std430, set = 0, binding = 7) buffer Heads { int heads[]; };     // scanned in place
-layout(std430, set = 0, binding = 8) writeonly buffer SitePoints { dvec2 site_points[]; };
+layout(std430, set = 0, binding = 8) buffer SitePoints { dvec2 site_points[]; };
 layout(std430, set = 0, binding = 9) writeonly buffer SiteInput { int site_input[]; };
 layout(std430, set = 0, binding = 10) buffer Rank { int rank[]; };      // input index -> site
 layout(std430, set = 0, binding = 11) writeonly buffer Representative { int representative[]; };
@@ -65,7 +67,7 @@ layout(push_constant) uniform Params {
   int pass;
   int first;      // dispatches are split to respect maxComputeWorkGroupCount
   int side;       // where the sorted keys and input indices are
-  int mode;       // PASS_KEYS: which key
+  int mode;       // PASS_KEYS: which key; PASS_SAMPLE: the stride
   int pad;
 } params;
 
@@ -161,5 +163,7 @@ void main() {
     hull_sites[i] = rank[hull_input[i]];
   } else if (params.pass == PASS_PREDECESSOR) {
     predecessor[hull_sites[i]] = hull_sites[(i + params.count - 1) % params.count];
+  } else if (params.pass == PASS_SAMPLE) {
+    sorted[i] = site_points[i * params.mode];
   }
 }

@@ -353,6 +353,11 @@ void test_device_passes() {
     std::vector<Point2> gauss(50000);
     for (auto& q : gauss) q = {1e6 + normal(rng), -1e6 + normal(rng)};
     check_preparation("gaussian 50000 off the origin", gauss);
+    // One cell too crowded for the device's bucketing: the host buckets, after the sites' copy.
+    std::vector<Point2> crowded;
+    for (int k = 0; k < 5000; ++k) crowded.push_back({0.5 + 1e-9 * unit(rng), 0.5 + 1e-9 * unit(rng)});
+    for (const Point2 corner : {Point2{0.0, 0.0}, Point2{1.0, 0.1}, Point2{0.2, 1.0}}) crowded.push_back(corner);
+    check_preparation("5000 in one cell + 3", crowded);
   }
   {
     // Grids from one (crowded) cell to more cells than sites; the largest scans three levels

@@ -26,7 +26,7 @@ constexpr int radix_bits = 4;
 
 enum PreparePass : std::int32_t {
   pass_codes = 0, pass_gather, pass_first_equal, pass_keys, pass_group_start, pass_head_position,
-  pass_first_of_group, pass_compact, pass_hull, pass_predecessor
+  pass_first_of_group, pass_compact, pass_hull, pass_predecessor, pass_sample
 };
 // Bits of the sort keys: the Morton code (Quantiser::bits per coordinate), a coordinate's bits.
 constexpr int code_bits = 60, coordinate_bits = 64;
@@ -169,6 +169,11 @@ void DevicePreparation::record_hull(Recording& rec, std::size_t hull_count) {
   Params params{{0, 0}, 1.0, 1.0, 1.0, 0, 0, 0, 0, 0, 0};
   dispatch_prepare(rec, params, pass_hull, hull_count);
   dispatch_prepare(rec, params, pass_predecessor, hull_count);
+}
+
+void DevicePreparation::record_sample(Recording& rec, std::size_t count, std::size_t stride) {
+  Params params{{0, 0}, 1.0, 1.0, 1.0, 0, 0, 0, 0, std::int32_t(stride), 0};
+  dispatch_prepare(rec, params, pass_sample, count);
 }
 
 }  // namespace expanse::detail::vk

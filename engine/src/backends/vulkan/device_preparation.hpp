@@ -64,6 +64,8 @@ class DevicePreparation {
   void record_compact(Recording& rec, std::size_t n);
   /// Records the hull's input indices (hull_input) -> site ids (hull_sites), and predecessor.
   void record_hull(Recording& rec, std::size_t hull_count);
+  /// Records the copy of `count` sites, every stride-th, into the start of `sorted`.
+  void record_sample(Recording& rec, std::size_t count, std::size_t stride);
 
  private:
   struct Params;

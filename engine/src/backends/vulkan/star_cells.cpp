@@ -33,13 +33,11 @@ struct UniformPlan {
 // then stay within 1.1% of the full count's for uniform, gaussian, kuzmin, grid, clusters and
 // disk inputs at 2M and 16.8M sites (fewer bins, as many sites to each, lost the small
 // clusters: 7,097 cells per side became 4,016).
-UniformPlan uniform_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer) {
-  const std::size_t n = std::size_t(sites.size());
-  constexpr std::size_t most_samples = std::size_t{1} << 20;
-  const std::size_t stride = std::max<std::size_t>(1, n / most_samples);
-  const std::size_t samples = n / stride;
-  const double wx = sites.bounds.max_x - sites.bounds.min_x;
-  const double wy = sites.bounds.max_y - sites.bounds.min_y;
+UniformPlan uniform_cells(const SiteSample& sample, std::size_t n, const Box& bounds, double per_bucket,
+                          VkDeviceSize max_buffer) {
+  const std::size_t samples = sample.count;
+  const double wx = bounds.max_x - bounds.min_x;
+  const double wy = bounds.max_y - bounds.min_y;
   const int h = int(std::clamp(std::sqrt(double(n) / 64.0), 1.0, 256.0));
   const std::size_t bin_count = std::size_t(h) * std::size_t(h);
   const double ix = wx > 0 ? h / wx : 0.0, iy = wy > 0 ? h / wy : 0.0;
@@ -51,9 +49,9 @@ UniformPlan uniform_cells(const SiteSet& sites, double per_bucket, VkDeviceSize 
     std::vector<std::uint32_t>& own = chunk_bins[c];
     own.assign(bin_count, 0);
     for (std::size_t i = begin; i < end; ++i) {
-      const Point2& p = sites.points[i * stride];
-      ++own[std::size_t(cell_coord(p.y, sites.bounds.min_y, iy, h)) * std::size_t(h) +
-            std::size_t(cell_coord(p.x, sites.bounds.min_x, ix, h))];
+      const Point2& p = sample[i];
+      ++own[std::size_t(cell_coord(p.y, bounds.min_y, iy, h)) * std::size_t(h) +
+            std::size_t(cell_coord(p.x, bounds.min_x, ix, h))];
     }
   });
   std::vector<std::uint32_t> bins = std::move(chunk_bins[0]);
@@ -84,25 +82,25 @@ UniformPlan uniform_cells(const SiteSet& sites, double per_bucket, VkDeviceSize 
 
 // Ascending boundaries along one axis: boundary j (1 .. cells - 1) is the (j / cells)-quantile
 // of the sample's coordinates.
-void quantile_bounds(const SiteSet& sites, std::size_t stride, std::size_t samples, int cells, bool y,
+void quantile_bounds(const SiteSample& sample, std::size_t stride, std::size_t samples, int cells, bool y,
                      double* out) {
   std::vector<double> v(samples);
-  for (std::size_t k = 0; k < samples; ++k) v[k] = y ? sites.points[k * stride].y : sites.points[k * stride].x;
+  for (std::size_t k = 0; k < samples; ++k) v[k] = y ? sample[k * stride].y : sample[k * stride].x;
   std::sort(v.begin(), v.end());
   for (int j = 1; j < cells; ++j) out[j - 1] = v[std::min(samples - 1, std::size_t(j) * samples / std::size_t(cells))];
 }
 
 }  // namespace
 
-StarCells plan_star_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer) {
-  const std::size_t n = std::size_t(sites.size());
+StarCells plan_star_cells(const SiteSample& sample, std::size_t n, const Box& bounds, double per_bucket,
+                          VkDeviceSize max_buffer) {
   StarCells g;
   // Quantile cells where uniform ones would crowd the typical site's cells: kuzmin inputs, whose
   // dense centre is far finer than the coarse histogram (1M sites on lavapipe: 976 sites to the
   // typical cell; 98.9-100% of the triangles were left to the seam stage, 15.4 s, against 2.8 s
   // with quantile cells). Elsewhere uniform cells are cheaper to look up and to walk: gaussian
   // 1M on lavapipe, star shader 0.99 s against 2.26 s with quantile cells (2026-11-25).
-  const UniformPlan uniform = uniform_cells(sites, per_bucket, max_buffer);
+  const UniformPlan uniform = uniform_cells(sample, n, bounds, per_bucket, max_buffer);
   const char* kind = std::getenv("EXPANSE_VULKAN_CELLS");
   if (kind && std::strcmp(kind, "quantile") == 0)
     g.quantile = true;
@@ -116,21 +114,21 @@ StarCells plan_star_cells(const SiteSet& sites, double per_bucket, VkDeviceSize 
     const double most = std::min({8192.0, std::sqrt(16.0 * double(n) + 1.0),
                                   std::floor(std::sqrt(double(max_buffer / 4) - 1.0))});
     g.cells = int(std::clamp(std::ceil(std::sqrt(double(n) / per_bucket)), 1.0, std::max(1.0, most)));
-    // 2^17 samples (Morton order, strided): about 45 to a boundary at 4096^2; the two axes
-    // sorted on two threads.
-    const std::size_t stride = std::max<std::size_t>(1, n / (std::size_t{1} << 17)), samples = n / stride;
+    // 2^17 of the sample (strided): about 45 to a boundary at 4096^2; the two axes sorted on
+    // two threads.
+    const std::size_t stride = std::max<std::size_t>(1, sample.count >> 17), samples = sample.count / stride;
     g.bounds.resize(2 * std::size_t(g.cells - 1));
     auto along_y = std::async(std::launch::async, [&] {
-      quantile_bounds(sites, stride, samples, g.cells, true, g.bounds.data() + (g.cells - 1));
+      quantile_bounds(sample, stride, samples, g.cells, true, g.bounds.data() + (g.cells - 1));
     });
-    quantile_bounds(sites, stride, samples, g.cells, false, g.bounds.data());
+    quantile_bounds(sample, stride, samples, g.cells, false, g.bounds.data());
     along_y.get();
   } else {
     g.cells = uniform.cells;
   }
-  g.origin[0] = sites.bounds.min_x;
-  g.origin[1] = sites.bounds.min_y;
-  const double wx = sites.bounds.max_x - sites.bounds.min_x, wy = sites.bounds.max_y - sites.bounds.min_y;
+  g.origin[0] = bounds.min_x;
+  g.origin[1] = bounds.min_y;
+  const double wx = bounds.max_x - bounds.min_x, wy = bounds.max_y - bounds.min_y;
   g.inv_width[0] = wx > 0 ? double(g.cells) / wx : 0.0;
   g.inv_width[1] = wy > 0 ? double(g.cells) / wy : 0.0;
   return g;

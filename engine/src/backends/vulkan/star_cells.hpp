@@ -45,10 +45,29 @@ struct StarCells {
   }
 };
 
-/// The star grid for these sites: quantile cells where uniform ones would crowd the typical
+/// Every stride-th site (Morton order: spread over the plane), as star_cell_sample picks them,
+/// which is all the grid's planning reads: where the device prepared the sites, it sends these
+/// back first and the rest while the stars grow.
+struct SiteSample {
+  const Point2* points = nullptr;  ///< sample k at points[k * step]
+  std::size_t step = 1, count = 0;
+  const Point2& operator[](std::size_t k) const { return points[k * step]; }
+};
+
+/// The sample's stride for n sites: about 2^20 of them.
+inline std::size_t star_cell_sample_stride(std::size_t n) { return std::max<std::size_t>(1, n >> 20); }
+
+/// The sample of these sites, in place.
+inline SiteSample star_cell_sample(const SiteSet& sites) {
+  const std::size_t n = std::size_t(sites.size()), stride = star_cell_sample_stride(n);
+  return {sites.points.data(), stride, n / stride};
+}
+
+/// The star grid for n sites in `bounds`, planned from their sample: quantile cells where uniform ones would crowd the typical
 /// site's cells (EXPANSE_VULKAN_CELLS=uniform or =quantile overrides), about `per_bucket` sites
 /// to a cell;
 /// at most as many cells as a buffer of `max_buffer` bytes holds starts for.
-StarCells plan_star_cells(const SiteSet& sites, double per_bucket, VkDeviceSize max_buffer);
+StarCells plan_star_cells(const SiteSample& sample, std::size_t n, const Box& bounds, double per_bucket,
+                          VkDeviceSize max_buffer);
 
 }  // namespace expanse::detail::vk

@@ -836,7 +836,7 @@ void Kernel::bind(std::span<Buffer* const> buffers, std::span<const TexelView* c
 
 // ---- Recording --------------------------------------------------------------------------------
 
-Recording::Recording(Context& context) : context_(context) {
+Recording::Recording(Context& context, bool timed) : context_(context), timed_(timed) {
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   allocate.commandPool = context.command_pool();
   allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -856,7 +856,7 @@ Recording::Recording(Context& context) : context_(context) {
     release();
     check(result, "vkBeginCommandBuffer");
   }
-  if (context.query_pool() != VK_NULL_HANDLE) {
+  if (timed_ && context.query_pool() != VK_NULL_HANDLE) {
     vkCmdResetQueryPool(commands_, context.query_pool(), 0, context.query_capacity());
     vkCmdWriteTimestamp(commands_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, context.query_pool(), 0);
   }
@@ -909,6 +909,16 @@ void Recording::barrier() {
   vkCmdPipelineBarrier(commands_, stages, stages, 0, 1, &memory, 0, nullptr, 0, nullptr);
 }
 
+void Recording::barrier_after_compute() {
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(commands_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                       &memory, 0, nullptr, 0, nullptr);
+}
+
 void Recording::barrier_to_host() {
   VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -919,20 +929,23 @@ void Recording::barrier_to_host() {
 }
 
 void Recording::timestamp(std::string name) {
-  if (context_.query_pool() == VK_NULL_HANDLE) return;
+  if (!timed_ || context_.query_pool() == VK_NULL_HANDLE) return;
   if (marks_.size() + 2 > context_.query_capacity()) return;
   marks_.push_back(std::move(name));
   vkCmdWriteTimestamp(commands_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, context_.query_pool(),
                       std::uint32_t(marks_.size()));
 }
 
-std::vector<StageTime> Recording::submit() {
+void Recording::submit_only() {
   check(vkEndCommandBuffer(commands_), "vkEndCommandBuffer");
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands_;
   check(vkQueueSubmit(context_.queue(), 1, &submit, fence_), "vkQueueSubmit");
   submitted_ = true;
+}
+
+void Recording::wait() {
   // Long dispatches (lavapipe, big inputs) can take minutes: wait in slices, never give up.
   for (;;) {
     const VkResult result =
@@ -941,6 +954,11 @@ std::vector<StageTime> Recording::submit() {
     check(result, "vkWaitForFences");
     break;
   }
+}
+
+std::vector<StageTime> Recording::submit() {
+  submit_only();
+  wait();
   std::vector<StageTime> stages;
   if (context_.query_pool() != VK_NULL_HANDLE && !marks_.empty()) {
     std::vector<std::uint64_t> ticks(marks_.size() + 1);

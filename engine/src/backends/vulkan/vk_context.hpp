@@ -232,7 +232,9 @@ class StagingRing {
 /// times between consecutive timestamp() marks.
 class Recording {
  public:
-  explicit Recording(Context& context);
+  /// timed: the recording writes timestamps (the context's one query pool: a recording that
+  /// runs beside a timed one must not be timed).
+  explicit Recording(Context& context, bool timed = true);
   ~Recording();
   Recording(const Recording&) = delete;
   Recording& operator=(const Recording&) = delete;
@@ -243,6 +245,9 @@ class Recording {
   void dispatch(const Kernel& kernel, const void* push_constants, std::uint32_t groups);
   /// Makes all earlier transfer/compute writes visible to all later transfer/compute access.
   void barrier();
+  /// Makes earlier compute writes visible to later transfer/compute access, and waits for
+  /// nothing else: transfers still running from an earlier submission go on beside what follows.
+  void barrier_after_compute();
   /// Makes all earlier transfer/compute writes visible to the host (after the fence).
   void barrier_to_host();
   /// The command buffer being recorded, for commands the methods above do not cover.
@@ -251,6 +256,9 @@ class Recording {
   void timestamp(std::string name);
   /// Submits, waits, and returns the timed stages (empty when the queue has no timestamps).
   std::vector<StageTime> submit();
+  /// Submits and returns at once; wait() waits (from any thread: only the fence is used).
+  void submit_only();
+  void wait();
 
  private:
   void release();
@@ -258,6 +266,7 @@ class Recording {
   VkCommandBuffer commands_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   std::vector<std::string> marks_;
+  bool timed_ = true;
   bool submitted_ = false;
 };
 

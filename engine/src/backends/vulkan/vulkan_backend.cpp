@@ -269,15 +269,26 @@ class VulkanBackend final : public Backend {
     std::lock_guard lock(context_->mutex());
     const std::size_t messages = context_->instance().message_count();
     std::optional<InputGrowResult> result(std::in_place);
-    if (!prepare_on_device(input, *result)) return std::nullopt;
+    std::vector<Point2> sample_points;
+    SiteCopy copy(*context_);
+    if (!prepare_on_device(input, *result, sample_points, copy)) return std::nullopt;
+    const std::size_t m = std::size_t(result->sites.size());
+    const std::size_t stride = star_cell_sample_stride(m);
     // Device predicates need every nonzero coordinate at least 2^-200 (device_safe): else the
     // exact CPU stage does it all, as grow() leaves it.
     if (input.scan.smallest_nonzero < 0x1p-200) {
-      result->grown.partial.deferred_expansions = std::size_t(result->sites.size());
+      copy.start();
+      copy.finish();
+      result->grown.partial.deferred_expansions = m;
     } else {
       grow_stars(GrowInput{result->sites, result->hull, input.layout, input.recycled}, result->grown,
-                 /*sites_on_device=*/true);
+                 SiteSample{sample_points.data(), 1, m / stride}, &copy);
     }
+    const auto start = Clock::now();
+    copy.finish();
+    auto& stages = result->grown.host_stages;
+    stages.push_back({"vulkan: copy of the sites to the host (while the stars grow)", copy.host_ms});
+    stages.push_back({"vulkan: wait for the sites' copy after the growth", ms_since(start)});
     context_->instance().throw_if_messages(messages);
     return result;
   }
@@ -471,7 +482,7 @@ class VulkanBackend final : public Backend {
     k_prep_raw, k_prep_keys0, k_prep_keys1, k_prep_values0, k_prep_values1, k_prep_sorted,
     k_prep_first, k_prep_heads, k_prep_head_sums, k_prep_counts, k_prep_count_sums,
     k_prep_site_input, k_prep_rank, k_prep_representative, k_prep_hull_input, k_prep_hull_sites,
-    k_prep_counters, k_cell_bounds
+    k_prep_counters, k_cell_bounds, k_sites_to_host
   };
   Buffer& kept(Kept slot, VkDeviceSize bytes, bool host_visible) {
     return context_->buffers().get(slot, bytes, host_visible);
@@ -549,13 +560,68 @@ class VulkanBackend final : public Backend {
     return cpu_device() && !(staged && std::strcmp(staged, "0") != 0 && *staged);
   }
 
+  // The prepared sites, their input indices and (where points repeat) the representatives,
+  // copied to the host while the stars grow: one submission of copies into a kept host-visible
+  // buffer, untimed (the timed star submission owns the query pool), then the host's copy out
+  // of it on another thread. On the H100 the copy through the ring before the growth took
+  // 24-26 ms of 229-261 at 4096^2 (session 9, call 2).
+  struct SiteCopy {
+    struct Piece {
+      Buffer* from;
+      void* to;
+      VkDeviceSize bytes;
+    };
+    explicit SiteCopy(Context& context) : ctx(context) {}
+    ~SiteCopy() {
+      if (host.valid()) host.wait();
+    }
+    SiteCopy(const SiteCopy&) = delete;
+    SiteCopy& operator=(const SiteCopy&) = delete;
+
+    void start() {
+      if (rec || pieces.empty()) return;
+      rec.emplace(ctx, /*timed=*/false);
+      rec->barrier_after_compute();
+      VkDeviceSize at = 0;
+      for (const Piece& piece : pieces) {
+        rec->copy(*piece.from, *staging, piece.bytes, 0, at);
+        at += piece.bytes;
+      }
+      rec->barrier_to_host();
+      rec->submit_only();
+      host = std::async(std::launch::async, [this] {
+        rec->wait();
+        const auto begin = Clock::now();
+        const char* from = static_cast<const char*>(staging->mapped());
+        for (const Piece& piece : pieces) {
+          copy_on_host_threads(piece.to, from, std::size_t(piece.bytes));
+          from += piece.bytes;
+        }
+        host_ms = ms_since(begin);
+      });
+    }
+    // Waits for the host's copy (on the thread that holds the context) and frees the recording.
+    void finish() {
+      if (host.valid()) host.get();
+      rec.reset();
+    }
+
+    Context& ctx;
+    Buffer* staging = nullptr;
+    std::vector<Piece> pieces;
+    std::optional<Recording> rec;
+    std::future<void> host;
+    double host_ms = 0.0;
+  };
+
   // The raw input prepared on the device (device_preparation.hpp), as prepare_sites and
   // convex_hull would have made it for the rest of the pipeline: the sites and their input
   // indices, the representatives and the hull come back to the host (the seam stage and the
   // output need them); the sites and the hull predecessors stay in k_input_sites and
   // k_input_predecessor for grow_stars. False, with nothing consumed, when the device cannot
   // (too large for its buffers) or the hull is degenerate: the host prepares instead.
-  bool prepare_on_device(const InputGrowInput& input, InputGrowResult& result) {
+  bool prepare_on_device(const InputGrowInput& input, InputGrowResult& result,
+                         std::vector<Point2>& sample_points, SiteCopy& copy) {
     Context& ctx = *context_;
     const std::size_t n = input.points.size();
     if (n >= (std::size_t{1} << 30) || bytes_of(n, 16) > ctx.max_buffer_bytes()) return false;
@@ -654,12 +720,16 @@ class VulkanBackend final : public Backend {
     prep.bind(buffers);
     const StagingRing::Upload hull_upload[] = {{hull_input->data(), buffers.hull_input->handle(), 0, bytes_of(h, 4)}};
     ctx.staging().upload(hull_upload);
+    // The grid's sample of the sites (star_cells.hpp) into the sorted points' buffer, free now.
+    const std::size_t stride = star_cell_sample_stride(m), samples = m / stride;
     submit([&](Recording& rec) {
       prep.record_hull(rec, h);
-      rec.timestamp("vulkan: prepare (hull)");
+      prep.record_sample(rec, samples, stride);
+      rec.timestamp("vulkan: prepare (hull, sample)");
     });
 
-    // The host's copy of what the device prepared.
+    // What the host needs before the growth: the hull and the sample. The sites, their input
+    // indices and the representatives follow while the stars grow (SiteCopy).
     sites.scale_exponent = scan.scale_exponent;
     sites.integer_coordinates = scan.integer_coordinates;
     sites.bounds = scan.bounds;
@@ -667,13 +737,16 @@ class VulkanBackend final : public Backend {
     resize_for_parallel_write(sites.input_index, m);
     Hull& hull = result.hull;
     hull.sites.resize(h);
-    identity.get();
-    std::vector<StagingRing::Download> pieces{
+    sample_points.resize(samples);
+    const StagingRing::Download pieces[] = {
         {buffers.hull_sites->handle(), 0, hull.sites.data(), bytes_of(h, 4)},
-        {buffers.site_points->handle(), 0, sites.points.data(), bytes_of(m, 16)},
-        {buffers.site_input->handle(), 0, sites.input_index.data(), bytes_of(m, 4)}};
-    if (m < n) pieces.push_back({buffers.representative->handle(), 0, sites.representative.data(), bytes_of(n, 4)});
+        {buffers.sorted->handle(), 0, sample_points.data(), bytes_of(samples, 16)}};
     ctx.staging().download(pieces);
+    identity.get();
+    copy.staging = &kept(k_sites_to_host, bytes_of(m, 20) + (m < n ? bytes_of(n, 4) : 0), true);
+    copy.pieces = {{buffers.site_points, sites.points.data(), bytes_of(m, 16)},
+                   {buffers.site_input, sites.input_index.data(), bytes_of(m, 4)}};
+    if (m < n) copy.pieces.push_back({buffers.representative, sites.representative.data(), bytes_of(n, 4)});
     resize_for_parallel_write(hull.predecessor, m);
     detail::parallel_chunks(m, [&](std::size_t, std::size_t begin, std::size_t end) {
       std::fill(hull.predecessor.begin() + std::ptrdiff_t(begin), hull.predecessor.begin() + std::ptrdiff_t(end), -1);
@@ -683,13 +756,16 @@ class VulkanBackend final : public Backend {
       if (site < 0 || std::size_t(site) >= m) throw Error(ErrorCode::internal, "Vulkan: the device mapped a hull site out of range");
       hull.predecessor[std::size_t(site)] = hull.sites[(k + h - 1) % h];
     }
-    host.push_back({"vulkan: hull and copy of the sites to the host", ms_since(start)});
+    host.push_back({"vulkan: hull and the grid's sample to the host", ms_since(start)});
     return true;
   }
 
-  // sites_on_device: prepare_on_device left the sites in k_input_sites and the hull
-  // predecessors in k_input_predecessor (nothing to upload for the device's bucketing).
-  void grow_stars(const GrowInput& input, GrowResult& result, bool sites_on_device = false) {
+  // From prepare_on_device (site_copy not null): the sites are in k_input_sites and the hull
+  // predecessors in k_input_predecessor (nothing to upload for the device's bucketing), and on
+  // the host only their sample until site_copy has run, which this starts beside the stars.
+  void grow_stars(const GrowInput& input, GrowResult& result, std::optional<SiteSample> sample = std::nullopt,
+                  SiteCopy* site_copy = nullptr) {
+    const bool sites_on_device = site_copy != nullptr;
     Context& ctx = *context_;
     const std::size_t n = std::size_t(input.sites.size());
     const double per_bucket = input.layout.sites_per_bucket > 0 ? input.layout.sites_per_bucket : 2.0;
@@ -697,7 +773,8 @@ class VulkanBackend final : public Backend {
     const bool in_place = works_in_place();
 
     auto start = Clock::now();
-    const StarCells frame = plan_star_cells(input.sites, per_bucket, ctx.max_buffer_bytes());
+    const StarCells frame = plan_star_cells(sample ? *sample : star_cell_sample(input.sites), n, input.sites.bounds,
+                                            per_bucket, ctx.max_buffer_bytes());
     const int cells = frame.cells;
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
     result.host_stages.push_back({frame.quantile ? "vulkan: grid (quantile cells)" : "vulkan: grid", ms_since(start)});
@@ -844,12 +921,23 @@ class VulkanBackend final : public Backend {
     start = Clock::now();
     StarGrid host_grid;  // when the host bucketed: its sorted id -> SiteSet id
     if (!device_sorted) {
+      if (site_copy) {  // the host's bucketing reads the sites
+        site_copy->start();
+        site_copy->finish();
+      }
       bucket_on_host(input, frame, sites, cell_start, predecessor, host_grid);
       result.host_stages.push_back({"vulkan: bucket", ms_since(start)});
       start = Clock::now();
     }
+    // The sites' copy to the host runs beside the stars: submitted after every ring upload
+    // (whose barriers would wait for it) and after the bucketing's submission (whose fence
+    // would), and the star submission waits for earlier compute work only.
+    if (site_copy) site_copy->start();
     Recording rec(ctx);
-    rec.barrier();  // after the ring's copies, if the host bucketed
+    if (device_sorted)
+      rec.barrier_after_compute();  // no ring copies since the bucketing's submission
+    else
+      rec.barrier();  // after the ring's copies
     rec.fill(counters, 0);
     rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
