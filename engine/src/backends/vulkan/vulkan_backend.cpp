@@ -592,9 +592,15 @@ class VulkanBackend final : public Backend {
       host = std::async(std::launch::async, [this] {
         rec->wait();
         const auto begin = Clock::now();
+        // Threads of its own: the host's shared pool runs one job at a time, and meanwhile it
+        // readies the output vectors (a second job runs on its caller alone: 75-93 ms for these
+        // 320 MB at 4096^2 on the H100's host, session 9 call 3).
         const char* from = static_cast<const char*>(staging->mapped());
         for (const Piece& piece : pieces) {
-          copy_on_host_threads(piece.to, from, std::size_t(piece.bytes));
+          vk::parallel_chunks(std::size_t(piece.bytes), host_workers(std::size_t(piece.bytes) >> 6),
+                              [&](std::size_t first, std::size_t last, unsigned) {
+                                std::memcpy(static_cast<char*>(piece.to) + first, from + first, last - first);
+                              });
           from += piece.bytes;
         }
         host_ms = ms_since(begin);
