@@ -6,11 +6,15 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "expanse/error.hpp"
 #include "expanse/generate.hpp"
@@ -171,6 +175,46 @@ TEST_CASE("parallel tasks: every task once, the lowest task's exception, nested 
     });
     CHECK(covered == 1'000'003);
   }
+}
+
+TEST_CASE("parallel tasks: a pass from another thread while the pool is busy runs on threads of its own",
+          "[parallel]") {
+  Threads use(4);
+  std::atomic<bool> first_started{false}, second_done{false};
+  std::atomic<int> outer_runs{0};
+  // The first pass holds the pool until the second, started on another thread, has finished.
+  std::thread first([&] {
+    parallel_tasks(4, [&](std::size_t) {
+      first_started = true;
+      while (!second_done.load()) std::this_thread::yield();
+      outer_runs++;
+    });
+  });
+  while (!first_started.load()) std::this_thread::yield();
+  {
+    std::vector<std::atomic<int>> runs(64);
+    std::mutex ids_mutex;
+    std::set<std::thread::id> ids;
+    parallel_tasks(runs.size(), [&](std::size_t i) {
+      runs[i]++;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      std::lock_guard lock(ids_mutex);
+      ids.insert(std::this_thread::get_id());
+    });
+    for (auto& r : runs) REQUIRE(r.load() == 1);
+    CHECK(ids.size() > 1);
+    try {
+      parallel_tasks(100, [](std::size_t i) {
+        if (i == 17 || i == 63) throw std::runtime_error(std::to_string(i));
+      });
+      FAIL("no exception");
+    } catch (const std::runtime_error& e) {
+      CHECK(std::string(e.what()) == "17");
+    }
+    second_done = true;
+  }
+  first.join();
+  CHECK(outer_runs.load() == 4);
 }
 
 TEST_CASE("prepare_sites: the sequential sort and merge, whatever the threads", "[parallel][input]") {
