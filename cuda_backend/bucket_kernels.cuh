@@ -99,10 +99,11 @@ class CellBuckets {
         sorted_ids(capacity, stream),
         sorted(capacity, stream),
         cell_start(cells_ + 1, stream),
-        xb_(quantile_ ? shape.gx + 1 : 0, stream),
-        yb_(quantile_ ? shape.gy + 1 : 0, stream),
-        x_guide_(quantile_ ? QuantileGuide::bins_for(shape.gx) + 1 : 0, stream),
-        y_guide_(quantile_ ? QuantileGuide::bins_for(shape.gy) + 1 : 0, stream),
+        // Room for the uniform shape's columns or rows, and for the square quantile shape's.
+        xb_(quantile_ ? std::max(shape.gx, shape.gy) + 1 : 0, stream),
+        yb_(quantile_ ? std::max(shape.gx, shape.gy) + 1 : 0, stream),
+        x_guide_(quantile_ ? QuantileGuide::bins_for(std::max(shape.gx, shape.gy)) + 1 : 0, stream),
+        y_guide_(quantile_ ? QuantileGuide::bins_for(std::max(shape.gx, shape.gy)) + 1 : 0, stream),
         sx_(quantile_ ? samples_ : 0, stream),
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
@@ -139,26 +140,32 @@ class CellBuckets {
       }
     }
     if (!uniform_) {
+      // Quantile cells: as many columns as rows (quantile_shape), at most cells_ of them.
+      const GridShape q = square_quantile_off() ? shape_ : quantile_shape(shape_, Box{g.min_x, g.min_y, g.max_x, g.max_y});
+      g.gx = q.gx;
+      g.gy = q.gy;
+      g.inv_w = q.inv_w;
+      g.inv_h = q.inv_h;
+      g.cell_w = q.cell_w;
+      g.cell_h = q.cell_h;
       std::size_t bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
-      quantile_kernel<<<bucket_blocks(shape_.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, shape_.gx,
-                                                                                   xb_.get());
-      quantile_kernel<<<bucket_blocks(shape_.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, shape_.gy,
-                                                                                   yb_.get());
+      quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, xb_.get());
+      quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, yb_.get());
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();
       g.yb = yb_.get();
-      const int x_bins = QuantileGuide::bins_for(shape_.gx), y_bins = QuantileGuide::bins_for(shape_.gy);
-      guide_kernel<<<bucket_blocks(x_bins + 1), kBucketThreads, 0, stream>>>(xb_.get(), shape_.gx, x_bins, g.min_x,
+      const int x_bins = QuantileGuide::bins_for(q.gx), y_bins = QuantileGuide::bins_for(q.gy);
+      guide_kernel<<<bucket_blocks(x_bins + 1), kBucketThreads, 0, stream>>>(xb_.get(), q.gx, x_bins, g.min_x,
                                                                             g.max_x - g.min_x, x_guide_.get());
-      guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), shape_.gy, y_bins, g.min_y,
+      guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), q.gy, y_bins, g.min_y,
                                                                             g.max_y - g.min_y, y_guide_.get());
       EXPANSE_CUDA(cudaGetLastError());
       if (!guide_off_asked()) {
-        g.x_guide = quantile_guide_or_none(x_guide_.get(), shape_.gx, g.min_x, g.max_x);
-        g.y_guide = quantile_guide_or_none(y_guide_.get(), shape_.gy, g.min_y, g.max_y);
+        g.x_guide = quantile_guide_or_none(x_guide_.get(), q.gx, g.min_x, g.max_x);
+        g.y_guide = quantile_guide_or_none(y_guide_.get(), q.gy, g.min_y, g.max_y);
       }
     }
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 
 #include "device_geometry.cuh"
 #include "input/site_set.hpp"
@@ -38,6 +40,29 @@ inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per
   s.cell_w = w > 0 ? w / s.gx : 1.0;
   s.cell_h = h > 0 ? h / s.gy : 1.0;
   return s;
+}
+
+/// The shape of quantile cells: as many columns as rows, no more cells than `uniform` has. Quantile
+/// boundaries give every column and every row its share of the sites whatever the box, so the
+/// box's aspect, which sizes uniform cells, says nothing about them; a heavy tail stretches the
+/// box (kuzmin 4096^2, seed 1: 13 times taller than wide), and columns 13 times as many as rows
+/// (in sites) made the star kernel's cells as elongated.
+inline GridShape quantile_shape(const GridShape& uniform, const Box& box) {
+  GridShape q = uniform;
+  const double w = box.max_x - box.min_x, h = box.max_y - box.min_y;
+  const int side = std::max(1, static_cast<int>(std::floor(std::sqrt(static_cast<double>(uniform.gx) * uniform.gy))));
+  q.gx = q.gy = side;
+  q.inv_w = w > 0 ? side / w : 0.0;
+  q.inv_h = h > 0 ? side / h : 0.0;
+  q.cell_w = w > 0 ? w / side : 1.0;
+  q.cell_h = h > 0 ? h / side : 1.0;
+  return q;
+}
+
+/// EXPANSE_CUDA_QUANTILE_SHAPE=box keeps quantile cells in the uniform shape (for comparisons).
+inline bool square_quantile_off() {
+  const char* env = std::getenv("EXPANSE_CUDA_QUANTILE_SHAPE");
+  return env && std::strcmp(env, "box") == 0;
 }
 
 /// GridView of a shape over the sites' box (pointers left for the caller to set).

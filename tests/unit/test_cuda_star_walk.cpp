@@ -89,6 +89,14 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
       // The uniform grid piles kuzmin's core into a few cells and runs out of budget: the
       // quantile grid is the default for this reason.
       {"kuzmin", p::kuzmin, 20000, 0.01, 1.0},
+      // A box 16 times taller than wide: quantile cells keep as many columns as rows.
+      {"kuzmin, stretched",
+       [](std::size_t n, std::uint64_t seed) {
+         std::vector<Point2> points = p::kuzmin(n, seed);
+         for (Point2& q : points) q.y *= 16.0;
+         return points;
+       },
+       20000, 0.01, 1.0},
       {"clusters", p::clusters, 20000, 0.002, 0.002},
       {"grid", p::grid, 10000, 0.001, 0.001},
       {"rotated_grid_exact", p::rotated_grid_exact, 4000, 0.002, 0.002},
@@ -256,6 +264,24 @@ TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search"
   std::vector<int> table(cuda::QuantileGuide::bins_for(1000) + 1, 0);
   CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75 + 1e-14) == nullptr);
   CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75) == nullptr);
+}
+
+TEST_CASE("CUDA quantile cells: as many columns as rows, whatever the box, no more cells than uniform ones",
+          "[cuda][grid]") {
+  for (const double aspect : {1.0, 0.076, 13.0, 1e-3}) {
+    const Box box{-1.0, 2.0, -1.0 + aspect, 3.0};
+    for (const std::size_t n : {std::size_t{3}, std::size_t{1000}, std::size_t{1} << 24}) {
+      const cuda::GridShape uniform = cuda::make_grid_shape(box, n, 2.0);
+      const cuda::GridShape q = cuda::quantile_shape(uniform, box);
+      INFO("aspect " << aspect << ", n " << n << ": uniform " << uniform.gx << " x " << uniform.gy);
+      CHECK(q.gx == q.gy);
+      CHECK(q.gx >= 1);
+      CHECK(static_cast<std::size_t>(q.gx) * q.gy <= static_cast<std::size_t>(uniform.gx) * uniform.gy);
+      CHECK(static_cast<double>(q.gx + 1) * (q.gy + 1) > static_cast<double>(uniform.gx) * uniform.gy);
+      CHECK(q.inv_w * (box.max_x - box.min_x) == Approx(q.gx));
+      CHECK(q.cell_h * q.gy == Approx(box.max_y - box.min_y));
+    }
+  }
 }
 
 TEST_CASE("CUDA grid choice: uniform cells for evenly spread sites, quantile cells for clusters", "[cuda][grid]") {
