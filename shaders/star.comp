@@ -45,8 +45,6 @@ layout(constant_id = 4) const bool EXACT_LATTICE = false;
 // Quantile cells (quantile_cells.glsl, for clustered and heavy-tailed inputs) instead of
 // uniform ones (cells.glsl); the host chooses (star_cells.cpp).
 layout(constant_id = 5) const bool QUANTILE_CELLS = false;
-// Row segments cut to what the search still has to look at (clip_row), as the CUDA kernel's.
-layout(constant_id = 6) const bool CLIP_ROWS = true;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -127,10 +125,7 @@ bool box_inside(ivec2 lo, ivec2 hi, ivec2 outer_lo, ivec2 outer_hi) {
 // from above) exceeds that by five orders of magnitude, and also covers sqrt and division that
 // are not correctly rounded on some devices. The absolute part covers rounding of the centre
 // and extreme points themselves: sites are scaled below 1 in magnitude.
-// Also returns a disc (o, reach) holding the region, for clip_row (reach < 0: none).
-void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell, out dvec2 o, out double reach) {
-  o = dvec2(0.0lf);
-  reach = -1.0lf;
+void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell) {
   precise dvec2 ba = b - a;
   precise dvec2 ca = c - a;
   precise double cross = ba.x * ca.y - ba.y * ca.x;
@@ -157,8 +152,6 @@ void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell
     if (side - ry >= -tol) { lo.y = min(lo.y, centre.y - radius); hi.y = max(hi.y, centre.y - radius); }
     lo_cell = cell_of(lo - dvec2(margin));
     hi_cell = cell_of(hi + dvec2(margin));
-    o = centre;
-    reach = radius + margin;
   } else {
     // Too flat to locate the centre. If c sees a-b at an obtuse angle, the region is the minor
     // segment, and every point x in it sees a-b at an angle >= angle(a c b) > 90 degrees: it
@@ -174,72 +167,8 @@ void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell
       double radius_t = 0.5lf * lb * (1.0lf + 1.0e-6lf) + 1.0e-6lf * lb + ABS_MARGIN;
       lo_cell = cell_of(mid - dvec2(radius_t));
       hi_cell = cell_of(mid + dvec2(radius_t));
-      o = mid;
-      reach = radius_t;
     }
   }
-}
-
-// The band of y that row y of cells covers, widened far beyond the rounding of the cell rule
-// (uniform cells: two correctly rounded operations; quantile cells: comparisons); the outer
-// rows reach to infinity, as the clamped rule does.
-const double FAR = 1.0e300lf;  // sites are scaled below 1
-void row_band(int y, out double yl, out double yh) {
-  if (QUANTILE_CELLS) {
-    yl = y > 0 ? cell_bounds[params.cells - 2 + y] : -FAR;
-    yh = y < params.cells - 1 ? cell_bounds[params.cells - 1 + y] : FAR;
-    return;
-  }
-  double w = 1.0lf / params.inv_width.y;
-  double l = params.origin.y + double(y) * w, h = params.origin.y + double(y + 1) * w;
-  double slop = 1.0e-9lf * (w + abs(l) + abs(h));
-  yl = y > 0 ? l - slop : -FAR;
-  yh = y < params.cells - 1 ? h + slop : FAR;
-}
-
-// Narrows the row segment [x0, x1] of row y to the cells that can hold a site left of a->b
-// (apex searches) and inside the disc (o, reach) that holds the best candidate's region (reach
-// >= 0), with margins far above the rounding of these few operations: pruning only, the
-// candidates are still tested exactly. Both bounds only shrink during a search, so a cell cut
-// now never needs a look later. Hull-hugging searches have boxes far larger than their thin
-// regions (the CUDA kernel's clip_row, star_scan.cuh).
-void clip_row(int y, bool apex, dvec2 a, dvec2 b, dvec2 o, double reach, inout int x0, inout int x1) {
-  double yl, yh;
-  row_band(y, yl, yh);
-  double lo = -FAR, hi = FAR;
-  if (reach >= 0.0lf) {
-    double dy = max(max(yl - o.y, o.y - yh), 0.0lf);
-    if (dy > reach * (1.0lf + 1.0e-9lf)) {
-      x1 = x0 - 1;
-      return;
-    }
-    double half_width = sqrt(max(reach * reach * (1.0lf + 4.0e-9lf) - dy * dy, 0.0lf)) * (1.0lf + 1.0e-9lf) +
-                  1.0e-9lf * reach + 1.0e-300lf;
-    lo = o.x - half_width - 1.0e-15lf * abs(o.x);
-    hi = o.x + half_width + 1.0e-15lf * abs(o.x);
-  }
-  if (apex) {
-    // Left of a->b: ex (py - ay) > ey (px - ax). In the row's band, for ey > 0 that is
-    // x < ax + ex (py - ay) / ey at its largest; for ey < 0, x > the smallest.
-    double ex = b.x - a.x, ey = b.y - a.y;
-    if (ey != 0.0lf) {
-      double t1 = ex * (yl - a.y) / ey, t2 = ex * (yh - a.y) / ey;
-      double slop = 1.0e-9lf * (abs(a.x) + abs(t1) + abs(t2) + abs(ex)) + 1.0e-300lf;
-      if (ey > 0.0lf)
-        hi = min(hi, a.x + max(t1, t2) + slop);
-      else
-        lo = max(lo, a.x + min(t1, t2) - slop);
-    } else {
-      double slop = 1.0e-9lf * abs(a.y) + 1.0e-300lf;
-      if ((ex > 0.0lf && yh < a.y - slop) || (ex < 0.0lf && yl > a.y + slop)) {
-        x1 = x0 - 1;
-        return;
-      }
-    }
-  }
-  if (isnan(lo) || isnan(hi)) return;  // cannot happen; never cut on a NaN
-  if (lo > -FAR) x0 = max(x0, cell_of(dvec2(lo, 0.0lf)).x);
-  if (hi < FAR) x1 = min(x1, cell_of(dvec2(hi, 0.0lf)).x);
 }
 
 void main() {
@@ -277,9 +206,6 @@ void main() {
   int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
   int pending = -1;
   bool big_scan = false, restart = false;
-  // The disc holding the best candidate's region (clip_row; reach < 0: none yet).
-  dvec2 disc_o = dvec2(0.0lf);
-  double disc_reach = -1.0lf;
   // The walk. The star, in registers: counter-clockwise from index 0 up; clockwise (if the
   // walk meets the hull) from index 15 down, so that the row read from index 16 - m on,
   // wrapping, is the whole star counter-clockwise.
@@ -304,8 +230,6 @@ void main() {
           in_rows = y >= vlo.y && y <= vhi.y;
           int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
           int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
-          if (CLIP_ROWS && x0 <= x1 && (phase != PHASE_NEAREST || disc_reach >= 0.0lf))
-            clip_row(y, phase != PHASE_NEAREST, pa, pb, disc_o, disc_reach, x0, x1);
           slot = 0;
           slot_end = 0;
           if (x0 <= x1) {
@@ -381,12 +305,10 @@ void main() {
         ivec2 rlo, rhi;
         if (phase == PHASE_NEAREST) {
           double reach = sqrt(best_d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
-          disc_o = ps;
-          disc_reach = reach;
           rlo = cell_of(ps - dvec2(reach));
           rhi = cell_of(ps + dvec2(reach));
         } else {
-          apex_region(pa, pb, best_p, rlo, rhi, disc_o, disc_reach);
+          apex_region(pa, pb, best_p, rlo, rhi);
         }
         found = box_inside(rlo, rhi, vlo, vhi);
         // Towards the region, but by at most half the visited box per side: nearer candidates
@@ -451,7 +373,6 @@ void main() {
       edge = pb - pa;
       edge2 = edge.x * edge.x + edge.y * edge.y;
       best = -1;
-      disc_reach = -1.0lf;
       vlo = ivec2(NONE_BELOW);
       vhi = ivec2(-NONE_BELOW);
       // First box: half-width |ab|_1 / 2 around the point |ab| / 2 left of the midpoint, a guess

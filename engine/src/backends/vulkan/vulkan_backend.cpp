@@ -391,15 +391,6 @@ class VulkanBackend final : public Backend {
     return !(env && std::strcmp(env, "0") == 0);
   }
 
-  // star.comp's CLIP_ROWS: row segments cut to the search's half-plane and disc, on GPUs. Not
-  // on CPU devices: lavapipe runs the cut for every row segment on all its lanes, masked, and
-  // its star shader took 157.7 -> 176.8 ms at 200k uniform sites (2026-11-25).
-  // EXPANSE_VULKAN_CLIP_ROWS=0 or =1 overrides (comparisons; CI runs it on lavapipe).
-  bool clip_rows() const {
-    if (const char* env = std::getenv("EXPANSE_VULKAN_CLIP_ROWS")) return std::strcmp(env, "0") != 0;
-    return !cpu_device();
-  }
-
   std::uint32_t workgroup(std::uint32_t wanted) const {
     const auto& limits = context_->limits();
     return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
@@ -914,7 +905,7 @@ class VulkanBackend final : public Backend {
 
     const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters(),
                                   exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u,
-                                  frame.quantile ? 1u : 0u, clip_rows() ? 1u : 0u};
+                                  frame.quantile ? 1u : 0u};
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage, storage};
