@@ -142,12 +142,7 @@ class CellBuckets {
     if (!uniform_) {
       // Quantile cells: as many columns as rows (quantile_shape), at most cells_ of them.
       const GridShape q = square_quantile_off() ? shape_ : quantile_shape(shape_, Box{g.min_x, g.min_y, g.max_x, g.max_y});
-      g.gx = q.gx;
-      g.gy = q.gy;
-      g.inv_w = q.inv_w;
-      g.inv_h = q.inv_h;
-      g.cell_w = q.cell_w;
-      g.cell_h = q.cell_h;
+      apply_shape(g, q);
       std::size_t bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();

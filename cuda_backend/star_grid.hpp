@@ -65,9 +65,8 @@ inline bool square_quantile_off() {
   return env && std::strcmp(env, "box") == 0;
 }
 
-/// GridView of a shape over the sites' box (pointers left for the caller to set).
-inline GridView make_grid_view(const GridShape& shape, const Box& box) {
-  GridView g{};
+/// Sets g's shape: its origin, scales and cells per axis.
+inline void apply_shape(GridView& g, const GridShape& shape) {
   g.min_x = shape.min_x;
   g.min_y = shape.min_y;
   g.inv_w = shape.inv_w;
@@ -76,6 +75,12 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
   g.cell_h = shape.cell_h;
   g.gx = shape.gx;
   g.gy = shape.gy;
+}
+
+/// GridView of a shape over the sites' box (pointers left for the caller to set).
+inline GridView make_grid_view(const GridShape& shape, const Box& box) {
+  GridView g{};
+  apply_shape(g, shape);
   g.max_x = box.max_x;
   g.max_y = box.max_y;
   return g;

@@ -150,6 +150,18 @@ bool same_nodes(const HostVector<BucketTree::Node>& a, const std::vector<BucketT
          });
 }
 
+// Tasks 17 and 63 of 100 throw: the caller gets task 17's exception, whichever ran first.
+void check_lowest_exception() {
+  try {
+    parallel_tasks(100, [](std::size_t i) {
+      if (i == 17 || i == 63) throw std::runtime_error(std::to_string(i));
+    });
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()) == "17");
+  }
+}
+
 }  // namespace
 
 TEST_CASE("parallel tasks: every task once, the lowest task's exception, nested calls inline", "[parallel]") {
@@ -161,14 +173,7 @@ TEST_CASE("parallel tasks: every task once, the lowest task's exception, nested 
       parallel_tasks(3, [&](std::size_t) { runs[i]++; });  // nested: on this thread
     });
     for (auto& r : runs) REQUIRE(r.load() == 4);
-    try {
-      parallel_tasks(100, [](std::size_t i) {
-        if (i == 17 || i == 63) throw std::runtime_error(std::to_string(i));
-      });
-      FAIL("no exception");
-    } catch (const std::runtime_error& e) {
-      CHECK(std::string(e.what()) == "17");
-    }
+    check_lowest_exception();
     std::size_t covered = 0;
     parallel_chunks(1'000'003, [&](std::size_t, std::size_t begin, std::size_t end) {
       std::atomic_ref<std::size_t>(covered).fetch_add(end - begin);
@@ -203,14 +208,7 @@ TEST_CASE("parallel tasks: a pass from another thread while the pool is busy run
     });
     for (auto& r : runs) REQUIRE(r.load() == 1);
     CHECK(ids.size() > 1);
-    try {
-      parallel_tasks(100, [](std::size_t i) {
-        if (i == 17 || i == 63) throw std::runtime_error(std::to_string(i));
-      });
-      FAIL("no exception");
-    } catch (const std::runtime_error& e) {
-      CHECK(std::string(e.what()) == "17");
-    }
+    check_lowest_exception();
     second_done = true;
   }
   first.join();

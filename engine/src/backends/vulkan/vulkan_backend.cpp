@@ -391,6 +391,12 @@ class VulkanBackend final : public Backend {
     return !(env && std::strcmp(env, "0") == 0);
   }
 
+  // EXPANSE_VULKAN_WORKGROUP: invocations per workgroup of the per-site kernels (experiments).
+  static std::uint32_t star_workgroup_override() {
+    const char* env = std::getenv("EXPANSE_VULKAN_WORKGROUP");
+    return env ? std::uint32_t(std::max(0L, std::atol(env))) : 0u;
+  }
+
   std::uint32_t workgroup(std::uint32_t wanted) const {
     const auto& limits = context_->limits();
     return std::max(1u, std::min({wanted, limits.maxComputeWorkGroupSize[0],
@@ -803,7 +809,9 @@ class VulkanBackend final : public Backend {
     // On lavapipe one workgroup = one SIMD batch, so the loop cap (see loop_budget) is shared
     // by as few invocations as possible.
     const std::uint32_t wg =
-        workgroup(cpu_device ? std::max(1u, ctx.physical().subgroup_size) : 64u);
+        workgroup(star_workgroup_override() ? star_workgroup_override()
+                  : cpu_device              ? std::max(1u, ctx.physical().subgroup_size)
+                                            : 64u);
 
     const bool device_bucketing = bucket_on_device(cpu_device);
     // Its kernels are compiled on first use only: CPU devices bucket on the host.
