@@ -37,7 +37,7 @@
 namespace expanse::detail::cuda {
 namespace {
 
-/// Past this many points with one Morton code, equal points are found by a second sort, not by
+/// Past this many points with one Morton code, equal points are found through a hash table, not by
 /// looking back through the run.
 constexpr int kMergeRunLimit = 64;
 constexpr int kThreads = 256;
