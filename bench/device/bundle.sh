@@ -21,6 +21,7 @@ mkdir -p .devrun
   "$build/tests/expanse_conformance" \
   "$build/tests/cuda/expanse_cuda_tests" \
   "$build/tests/vulkan/expanse_vulkan_tests" \
+  "$build/tests/vulkan/expanse_vulkan_interop_tests" \
   "$build/cuda_backend/expanse_bench_cuda" \
   "$build/bench/expanse-bench" \
   "$build/bench/expanse-bench-host-stages" \

@@ -7,7 +7,8 @@
 #
 # Steps (each under its own time limit, so one hang cannot eat the whole call):
 #   env          nvidia-smi, vulkan device list                 -> env.txt
-#   tests        CUDA tests, conformance on CUDA and on Vulkan, the Vulkan test suites
+#   tests        CUDA tests, conformance on CUDA and on Vulkan, the Vulkan test suites and the
+#                interop test (an application's own device and buffers)
 #                (Vulkan with the Khronos validation layer carried in .devrun/layers) -> tests.log
 #   sanitizer    compute-sanitizer memcheck/racecheck/initcheck/synccheck on the small cases
 #                                                                -> sanitizer.log
@@ -68,6 +69,7 @@ for what in "$@"; do
       step "conformance: cuda" 420 "$log" "$bin/expanse_conformance" --backend cuda
       EXPANSE_VULKAN_VALIDATION=1 step "conformance: vulkan" 420 "$log" "$bin/expanse_conformance" --backend vulkan
       EXPANSE_VULKAN_VALIDATION=1 step "vulkan: all suites" 300 "$log" "$bin/expanse_vulkan_tests" all
+      step "vulkan: interop" 300 "$log" "$bin/expanse_vulkan_interop_tests"
       ;;
     sanitizer)
       log="$out/sanitizer.log"
