@@ -146,9 +146,10 @@ void check_same_output(const std::string& name, const std::vector<Point2>& point
 // prepare_sites and convex_hull, then grown on the GPU path from the sites it left on the
 // device: the same sites, input indices, representatives and hull, and the same triangles as
 // grown from the host's preparation. Where a run of equal Morton codes is too long for the
-// pairwise search (`long_runs`), the device sorts by (code, x, y) and the order within a run
-// may differ: the sites are then compared as a set, and checked to be in Morton order.
-void check_preparation(const std::string& name, const std::vector<Point2>& points) {
+// pairwise search (`long_runs`: the input has one), the device sorts by (code, x, y) and the
+// order within a run may differ: the sites are then compared as a set, and checked to be in
+// Morton order.
+void check_preparation(const std::string& name, const std::vector<Point2>& points, bool long_runs) {
   const detail::SiteSet host = detail::prepare_sites(points);
   const detail::Hull host_hull = detail::convex_hull(host);
   const detail::InputScan scan = detail::scan_input(points);
@@ -176,9 +177,15 @@ void check_preparation(const std::string& name, const std::vector<Point2>& point
   const bool same_order = std::equal(sites.points.begin(), sites.points.end(), host.points.begin(),
                                      [](const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }) &&
                           std::equal(sites.input_index.begin(), sites.input_index.end(), host.input_index.begin());
-  const bool long_runs = has_stage(device->grown, "vulkan: prepare (sort by point)") ||
-                         std::any_of(device->grown.device_stages.begin(), device->grown.device_stages.end(),
-                                     [](const StageTime& s) { return s.name == "vulkan: prepare (sort by point)"; });
+  // The path taken, where the queue has timestamps to name it.
+  const auto& timed = device->grown.device_stages;
+  if (!timed.empty()) {
+    const bool sorted_again = std::any_of(timed.begin(), timed.end(), [](const StageTime& s) {
+      return s.name == "vulkan: prepare (sort by point)";
+    });
+    VK_CHECK_THAT(sorted_again == long_runs, "%s: sorted again by point %d, expected %d", name.c_str(),
+                  int(sorted_again), int(long_runs));
+  }
   if (!long_runs) {
     VK_CHECK_THAT(same_order, "%s: the sites or their order differ from prepare_sites'", name.c_str());
   } else {
@@ -333,31 +340,31 @@ void test_device_passes() {
     // than the quantisation, +0 and -0); the scale past 2^1023; integers.
     std::vector<Point2> p(300000);
     for (auto& q : p) q = {unit(rng), unit(rng)};
-    check_preparation("uniform 300000", p);
+    check_preparation("uniform 300000", p, false);
     std::vector<Point2> d;
     for (int k = 0; k < 40000; ++k) d.push_back(p[std::size_t(k) % 9000]);
-    check_preparation("40000, 9000 distinct, interleaved", d);
+    check_preparation("40000, 9000 distinct, interleaved", d, false);
     std::vector<Point2> c(p.begin(), p.begin() + 20000);
     for (int k = 0; k < 500; ++k) c.insert(c.begin() + 37 * k, p[5]);
     for (int k = 0; k < 300; ++k) c.push_back({0.25 + 1e-12 * unit(rng), 0.75 + 1e-12 * unit(rng)});
     for (int k = 0; k < 200; ++k) c.push_back({k % 2 ? -0.0 : 0.0, 0.5});
-    check_preparation("long runs of one code", c);
+    check_preparation("long runs of one code", c, true);
     std::vector<Point2> tiny(20000);
     for (auto& q : tiny) q = {std::ldexp(unit(rng), -1060), std::ldexp(unit(rng), -1060)};
-    check_preparation("subnormal 20000", tiny);
+    check_preparation("subnormal 20000", tiny, false);
     std::vector<Point2> g;
     for (int x = 0; x < 200; ++x)
       for (int y = 0; y < 200; ++y) g.push_back({double(x) - 100.0, double(y) * 3.0});
     std::shuffle(g.begin(), g.end(), rng);
-    check_preparation("grid 200x200, shuffled", g);
+    check_preparation("grid 200x200, shuffled", g, false);
     std::vector<Point2> gauss(50000);
     for (auto& q : gauss) q = {1e6 + normal(rng), -1e6 + normal(rng)};
-    check_preparation("gaussian 50000 off the origin", gauss);
+    check_preparation("gaussian 50000 off the origin", gauss, false);
     // One cell too crowded for the device's bucketing: the host buckets, after the sites' copy.
     std::vector<Point2> crowded;
     for (int k = 0; k < 5000; ++k) crowded.push_back({0.5 + 1e-9 * unit(rng), 0.5 + 1e-9 * unit(rng)});
     for (const Point2 corner : {Point2{0.0, 0.0}, Point2{1.0, 0.1}, Point2{0.2, 1.0}}) crowded.push_back(corner);
-    check_preparation("5000 in one cell + 3", crowded);
+    check_preparation("5000 in one cell + 3", crowded, true);
   }
   {
     // Grids from one (crowded) cell to more cells than sites; the largest scans three levels

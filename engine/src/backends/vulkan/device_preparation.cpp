@@ -46,7 +46,6 @@ struct DevicePreparation::Params {
   std::int32_t mode;
   std::int32_t pad;
 };
-static_assert(sizeof(double) * 5 + 6 * sizeof(std::int32_t) == 64);
 
 DevicePreparation::DevicePreparation(Context& context, std::uint32_t workgroup)
     : context_(context),
@@ -89,6 +88,7 @@ void DevicePreparation::bind(const PreparationBuffers& b) {
 
 // One invocation per element, in pieces of at most maxComputeWorkGroupCount groups; a barrier.
 void DevicePreparation::dispatch_prepare(Recording& rec, Params& params, int pass, std::size_t count) {
+  static_assert(sizeof(Params) == 64, "prepare_sites.comp's push constants");
   params.pass = pass;
   params.count = std::int32_t(count);
   params.side = side_;

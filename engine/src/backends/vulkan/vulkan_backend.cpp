@@ -261,7 +261,7 @@ class VulkanBackend final : public Backend {
     const char* where = std::getenv("EXPANSE_VULKAN_PREPARE");
     if (where && std::strcmp(where, "host") == 0) return false;
     if (where && std::strcmp(where, "device") == 0) return true;
-    return context_->physical().properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+    return !cpu_device();
   }
 
   std::optional<InputGrowResult> grow_from_input(const InputGrowInput& input) override {
@@ -269,11 +269,9 @@ class VulkanBackend final : public Backend {
     std::lock_guard lock(context_->mutex());
     const std::size_t messages = context_->instance().message_count();
     std::optional<InputGrowResult> result(std::in_place);
-    std::vector<Point2> sample_points;
     SiteCopy copy(*context_);
-    if (!prepare_on_device(input, *result, sample_points, copy)) return std::nullopt;
+    if (!prepare_on_device(input, *result, copy)) return std::nullopt;
     const std::size_t m = std::size_t(result->sites.size());
-    const std::size_t stride = star_cell_sample_stride(m);
     // Device predicates need every nonzero coordinate at least 2^-200 (device_safe): else the
     // exact CPU stage does it all, as grow() leaves it.
     if (input.scan.smallest_nonzero < 0x1p-200) {
@@ -281,8 +279,7 @@ class VulkanBackend final : public Backend {
       copy.finish();
       result->grown.partial.deferred_expansions = m;
     } else {
-      grow_stars(GrowInput{result->sites, result->hull, input.layout, input.recycled}, result->grown,
-                 SiteSample{sample_points.data(), 1, m / stride}, &copy);
+      grow_stars(GrowInput{result->sites, result->hull, input.layout, input.recycled}, result->grown, &copy);
     }
     const auto start = Clock::now();
     copy.finish();
@@ -618,7 +615,12 @@ class VulkanBackend final : public Backend {
       rec.reset();
     }
 
+    // What stands in for the sites on the host until the copy has run: star_cell_sample's
+    // sample of them, every star_cell_sample_stride(n)-th site.
+    SiteSample sample() const { return {sample_points.data(), 1, sample_points.size()}; }
+
     Context& ctx;
+    std::vector<Point2> sample_points;
     Buffer* staging = nullptr;
     std::vector<Piece> pieces;
     std::optional<Recording> rec;
@@ -633,7 +635,7 @@ class VulkanBackend final : public Backend {
   // k_input_predecessor for grow_stars. False, with nothing consumed, when the device cannot
   // (too large for its buffers) or the hull is degenerate: the host prepares instead.
   bool prepare_on_device(const InputGrowInput& input, InputGrowResult& result,
-                         std::vector<Point2>& sample_points, SiteCopy& copy) {
+                         SiteCopy& copy) {
     Context& ctx = *context_;
     const std::size_t n = input.points.size();
     if (n >= (std::size_t{1} << 30) || bytes_of(n, 16) > ctx.max_buffer_bytes()) return false;
@@ -749,10 +751,10 @@ class VulkanBackend final : public Backend {
     resize_for_parallel_write(sites.input_index, m);
     Hull& hull = result.hull;
     hull.sites.resize(h);
-    sample_points.resize(samples);
+    copy.sample_points.resize(samples);
     const StagingRing::Download pieces[] = {
         {buffers.hull_sites->handle(), 0, hull.sites.data(), bytes_of(h, 4)},
-        {buffers.sorted->handle(), 0, sample_points.data(), bytes_of(samples, 16)}};
+        {buffers.sorted->handle(), 0, copy.sample_points.data(), bytes_of(samples, 16)}};
     ctx.staging().download(pieces);
     identity.get();
     copy.staging = &kept(k_sites_to_host, bytes_of(m, 20) + (m < n ? bytes_of(n, 4) : 0), true);
@@ -775,8 +777,7 @@ class VulkanBackend final : public Backend {
   // From prepare_on_device (site_copy not null): the sites are in k_input_sites and the hull
   // predecessors in k_input_predecessor (nothing to upload for the device's bucketing), and on
   // the host only their sample until site_copy has run, which this starts beside the stars.
-  void grow_stars(const GrowInput& input, GrowResult& result, std::optional<SiteSample> sample = std::nullopt,
-                  SiteCopy* site_copy = nullptr) {
+  void grow_stars(const GrowInput& input, GrowResult& result, SiteCopy* site_copy = nullptr) {
     const bool sites_on_device = site_copy != nullptr;
     Context& ctx = *context_;
     const std::size_t n = std::size_t(input.sites.size());
@@ -785,8 +786,8 @@ class VulkanBackend final : public Backend {
     const bool in_place = works_in_place();
 
     auto start = Clock::now();
-    const StarCells frame = plan_star_cells(sample ? *sample : star_cell_sample(input.sites), n, input.sites.bounds,
-                                            per_bucket, ctx.max_buffer_bytes());
+    const StarCells frame = plan_star_cells(site_copy ? site_copy->sample() : star_cell_sample(input.sites), n,
+                                            input.sites.bounds, per_bucket, ctx.max_buffer_bytes());
     const int cells = frame.cells;
     const std::size_t cell_entries = std::size_t(cells) * std::size_t(cells) + 1;
     result.host_stages.push_back({frame.quantile ? "vulkan: grid (quantile cells)" : "vulkan: grid", ms_since(start)});
