@@ -37,6 +37,42 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
+/// The stars of sites walked in earlier passes (docs/algorithm.md, "Passes"): the sites are split
+/// into mask + 1 classes by their local ids' low bits and walked class by class, and a walk
+/// takes every triangle it shares with a site of an earlier class from that site's star instead
+/// of searching for it. The default, one class, reads nothing.
+struct EarlierStars {
+  const int* star = nullptr;
+  const std::uint32_t* info = nullptr;
+  /// Word u: a site of an earlier class whose star has u, left there for u to start its walk at;
+  /// possibly stale (a previous run's, or another count's), so checked before use.
+  int* first_neighbour = nullptr;
+  int sites = 0;
+  int pass = 0;  ///< the class walking now
+  int mask = 0;  ///< classes - 1 (a power of two minus one)
+
+  EXPANSE_DEVICE_FORCE bool walked(int u) const { return (u & mask) < pass; }
+
+  /// The apex of s->u (counter-clockwise: the neighbour just before s in u's star) or of u->s
+  /// (clockwise: just after s), for u walked; -1 where u's star does not tell.
+  EXPANSE_DEVICE_FORCE int apex_from(int u, int s, bool counter_clockwise) const {
+    const std::uint32_t inf = info[u];
+    if (star_deferred(inf)) return -1;
+    const int p = star_find(star, inf, u, s);
+    const int t = counter_clockwise ? p - 1 : p + 1;
+    if (p < 0 || (!star_closed(inf) && (t < 0 || t >= star_degree(inf)))) return -1;
+    return star_at(star, inf, u, t);
+  }
+
+  /// A neighbour of s from an earlier class, or -1.
+  EXPANSE_DEVICE_FORCE int first_neighbour_of(int s) const {
+    if (pass == 0) return -1;
+    const int u = first_neighbour[s];
+    if (u < 0 || u >= sites || !walked(u) || star_deferred(info[u]) || star_find(star, info[u], u, s) < 0) return -1;
+    return u;
+  }
+};
+
 /// Index of the CCW triangle (x, y, z) in the output: its owner is its smallest vertex, and the
 /// owner numbers its own triangles in star order from offset[owner]. -1 if the owner deferred.
 EXPANSE_DEVICE int triangle_index(const int* star, const std::uint32_t* info, const int* offset,

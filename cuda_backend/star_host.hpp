@@ -6,6 +6,7 @@
 #error "star_host.hpp is host code: include it from C++ translation units only"
 #endif
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <numeric>
 #include <thread>
@@ -94,28 +95,36 @@ class HostStarLayout {
   }
 
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
-  /// kernel's default for the search), spread over
-  /// `threads` host threads; the result does not depend on their number.
-  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes) {
+  /// kernel's default for the search; `classes` of sites walked one after another, as
+  /// EarlierStars describes), spread over `threads` host threads; the result does not depend on
+  /// their number.
+  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes,
+                          int classes = 1) {
     if (budget == 0) budget = default_budget(search);
+    if (search != StarSearch::boxes) classes = 1;
     const std::size_t n = points_.size();
     star_.assign(n * kStar, -1);
     info_.assign(n, 0);
+    std::vector<int> first_neighbour(n, -1);
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
-    std::vector<std::uint32_t> work_of(n, 0);
+    std::vector<std::uint32_t> work_of(n, 0);  // in the threads' order: class by class
+    EarlierStars earlier{star_.data(), info_.data(), first_neighbour.data(), static_cast<int>(n), 0, classes - 1};
+    std::size_t class_start = 0, class_count = 0;
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
-      for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
+      for (std::size_t k = class_count * p / threads; k < class_count * (p + 1) / threads; ++k) {
+        const std::size_t i = k * static_cast<std::size_t>(classes) + static_cast<std::size_t>(earlier.pass);
         int* row = star_.data() + i * kStar;
-        const StarWalk w = search == StarSearch::boxes
-                               ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(),
-                                                                                           static_cast<int>(i), row, budget)
-                                                 : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i),
-                                                                                   row, budget))
-                               : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
+        const StarWalk w =
+            search == StarSearch::boxes
+                ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), static_cast<int>(i), row,
+                                                                          budget, earlier)
+                                  : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i), row,
+                                                                    budget, earlier))
+                : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
         ++totals.sites;
-        work_of[i] = w.work;
+        work_of[class_start + k] = w.work;
         totals.predicates += w.predicates;
         totals.work += w.work;
         totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
@@ -130,12 +139,22 @@ class HostStarLayout {
           continue;
         }
         info_[i] = star_info(w);
+        for (int t = 0; t < star_degree(info_[i]); ++t) {  // as walk_and_record leaves them
+          const int u = star_at(star_.data(), info_[i], static_cast<int>(i), t);
+          if ((u & earlier.mask) > earlier.pass)
+            std::atomic_ref<int>(first_neighbour[static_cast<std::size_t>(u)]).store(static_cast<int>(i));
+        }
       }
     };
-    std::vector<std::thread> workers;
-    for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
-    walk_range(0);
-    for (auto& worker : workers) worker.join();
+    for (int c = 0; c < classes; ++c) {
+      earlier.pass = c;
+      class_start += class_count;
+      class_count = (n + static_cast<std::size_t>(classes - 1 - c)) / static_cast<std::size_t>(classes);
+      std::vector<std::thread> workers;
+      for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
+      walk_range(0);
+      for (auto& worker : workers) worker.join();
+    }
     StarWorkTotals totals;
     for (const StarWorkTotals& t : part) {
       totals.sites += t.sites;

@@ -2,6 +2,8 @@
 // Per-site seeding (docs/algorithm.md, "GPU, per-site seeding"): every site walks its own star
 // of Delaunay triangles around itself, stores the star (for star_links.comp, which derives the
 // adjacency from the stars), and emits the triangles it owns (smallest site id) in star order.
+// The sites walk in passes, a class of ids at a time (params.pass); a walk reads every triangle
+// it shares with a site of an earlier class from that site's star instead of searching for it.
 //
 // Shape of the code. The searches are written for two very different executors: GPU warps,
 // and Mesa's lavapipe, which runs 8 invocations as the lanes of CPU vector registers and
@@ -11,7 +13,8 @@
 //   candidate loop (innermost): one candidate site; floating-point filters only;
 //   scan loop:              the next row segment of cells (the candidates' range);
 //   search loop:            once a box of cells has been scanned: the empty-circle region of
-//                           the best candidate, the next box, or the next edge of the walk;
+//                           the best candidate, the next box, or the next edge of the walk
+//                           (its steps read from earlier passes' stars in a loop of their own);
 //   exact loop (outermost): once per candidate the filters could not decide (rare): the exact
 //                           certificate and CGAL's perturbation, then back into the scan.
 // The rare exact code thus costs lavapipe once per site, not once per candidate.
@@ -57,9 +60,12 @@ layout(std430, set = 0, binding = 3) writeonly buffer Triangles { int triangles[
 layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
 // Row s (four ivec4): the star of s, counter-clockwise from index star_start, wrapping
 // (star_common.glsl). Written only for sites that do not defer.
-layout(std430, set = 0, binding = 5) writeonly buffer Star { ivec4 star4[]; };
+layout(std430, set = 0, binding = 5) buffer Star { ivec4 star4[]; };
 // Site s: (star info (star_common.glsl), first output triangle of s or -1).
-layout(std430, set = 0, binding = 6) writeonly buffer SiteInfo { ivec2 site_info[]; };
+layout(std430, set = 0, binding = 6) buffer SiteInfo { ivec2 site_info[]; };
+// The same words: a site leaves its id in word 2u + 1 of each neighbour u of a later pass, which
+// starts its walk there instead of at its nearest neighbour.
+layout(std430, set = 0, binding = 6) buffer SiteInfoWords { int site_info_words[]; };
 // Quantile cells' boundaries (unused with uniform cells).
 layout(std430, set = 0, binding = 7) readonly buffer CellBounds { double cell_bounds[]; };
 
@@ -72,7 +78,15 @@ layout(push_constant) uniform Params {
   int triangle_capacity;
   // A scan of more cells than this stops at the first better candidate, to plan a smaller box.
   int big_scan_cells;
+  // Passes (docs/algorithm.md, "Passes"): the sites are split into pass_mask + 1 classes by
+  // their id's low bits, walked class by class; this dispatch walks class `pass`. A site takes
+  // every triangle it shares with a site of an earlier class from that site's star, and
+  // searches only for the rest.
+  int pass;
+  int pass_mask;  // classes - 1, a power of two minus one; 0: one pass
 } params;
+
+bool walked_before(int u) { return (u & params.pass_mask) < params.pass; }
 
 dvec2 site_at(int i) {
   uvec4 u = texelFetch(site_texels, i);
@@ -85,6 +99,35 @@ int predecessor_of(int s) { return texelFetch(predecessor_texels, s).x; }
 #include "predicates.glsl"
 #include "quantile_cells.glsl"
 #include "star_common.glsl"
+
+// The star of u, walked in an earlier pass. (Read as texels instead: the same time on lavapipe.)
+StarRow earlier_star(int u) {
+  return StarRow(star4[4 * u], star4[4 * u + 1], star4[4 * u + 2], star4[4 * u + 3]);
+}
+
+// The neighbour after u's edge to s in u's star, as an earlier pass left it: counter-clockwise,
+// the apex of s->u (triangle (s, u, c) is (u, c, s) in u's star: c just before s); clockwise,
+// the apex of u->s (c just after s). -1 where u's star does not tell (u deferred, or the
+// triangle is not there).
+int apex_from_star(int u, int s, bool counter_clockwise) {
+  uint info = uint(site_info[u].x);
+  if (star_deferred(info)) return -1;
+  StarRow row = earlier_star(u);
+  int p = star_find(row, info, s);
+  int t = counter_clockwise ? p - 1 : p + 1;
+  if (p < 0 || (!star_closed(info) && (t < 0 || t >= star_degree(info)))) return -1;
+  return star_at(row, info, t);
+}
+
+// Whether u is a site of an earlier pass whose star has s: then u is a Delaunay neighbour of s.
+// The word a site reads may be a previous run's: it is checked, not trusted.
+bool earlier_neighbour(int u, int s) {
+  if (u < 0 || u >= params.site_count || !walked_before(u)) return false;
+  uint info = uint(site_info[u].x);
+  if (star_deferred(info)) return false;
+  StarRow row = earlier_star(u);
+  return star_find(row, info, s) >= 0;
+}
 
 const int PHASE_NEAREST = 0;  // nearest neighbour v0 of s
 const int PHASE_CCW = 1;      // triangles (s, v, apex(s->v)) counter-clockwise from v0
@@ -172,7 +215,8 @@ void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell
 }
 
 void main() {
-  int s = params.first_site + int(gl_GlobalInvocationID.x);
+  int i = params.first_site + int(gl_GlobalInvocationID.x);
+  int s = i * (params.pass_mask + 1) + params.pass;
   if (s >= params.site_count) return;
   int budget = LOOP_BUDGET;
   ivec2 grid_hi = ivec2(params.cells - 1);
@@ -206,6 +250,17 @@ void main() {
   int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
   int pending = -1;
   bool big_scan = false, restart = false;
+  // The first neighbour, known from a neighbour of an earlier pass: no nearest-neighbour search.
+  bool known = false;
+  if (params.pass > 0) {
+    int u = site_info_words[2 * s + 1];
+    if (earlier_neighbour(u, s)) {  // the walk starts at u
+      best = u;
+      best_p = site_at(u);
+      known = true;
+      y = thi.y;  // an empty scan
+    }
+  }
   // The walk. The star, in registers: counter-clockwise from index 0 up; clockwise (if the
   // walk meets the hull) from index 15 down, so that the row read from index 16 - m on,
   // wrapping, is the whole star counter-clockwise.
@@ -291,8 +346,11 @@ void main() {
         vhi = thi;
       }
       restart = false;
-      bool found = false;
-      if (best < 0) {
+      bool found = known;
+      known = false;
+      if (found) {
+        // Nothing to plan.
+      } else if (best < 0) {
         if (vlo == ivec2(0) && vhi == grid_hi) {
           impossible = true;  // no candidate anywhere: cannot happen for a valid hull
           phase = PHASE_DEFER;
@@ -330,40 +388,46 @@ void main() {
       big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > params.big_scan_cells;
       if (!found) continue;
 
-      // The search is over: best is the answer. Take the walk's next step.
+      // The search is over: best is the answer. Take the walk's next step, and the steps after
+      // it that neighbours of earlier passes have taken already (their stars hold them).
       int c = best;
-      if (phase == PHASE_NEAREST) {
-        v0 = c;
-        row_put(row, 0, c);
-        deg = 1;
-        v = c;
-        phase = PHASE_CCW;
-      } else if (phase == PHASE_CCW) {
-        if (c == v0) {
-          closed = true;
-          phase = PHASE_DONE;
-        } else if (deg >= STAR_CAPACITY) {
-          phase = PHASE_DEFER;
-        } else {
-          row_put(row, deg, c);
-          ++deg;
+      for (;;) {
+        if (phase == PHASE_NEAREST) {
+          v0 = c;
+          row_put(row, 0, c);
+          deg = 1;
           v = c;
-        }
-      } else {
-        if (c == v0 || deg + m >= STAR_CAPACITY) {
-          phase = PHASE_DEFER;
+          phase = PHASE_CCW;
+        } else if (phase == PHASE_CCW) {
+          if (c == v0) {
+            closed = true;
+            phase = PHASE_DONE;
+          } else if (deg >= STAR_CAPACITY) {
+            phase = PHASE_DEFER;
+          } else {
+            row_put(row, deg, c);
+            ++deg;
+            v = c;
+          }
         } else {
-          row_put(row, STAR_ROW - 1 - m, c);
-          ++m;
-          v = c;
+          if (c == v0 || deg + m >= STAR_CAPACITY) {
+            phase = PHASE_DEFER;
+          } else {
+            row_put(row, STAR_ROW - 1 - m, c);
+            ++m;
+            v = c;
+          }
         }
+        if (phase == PHASE_CCW && pred_s == v) {
+          phase = PHASE_CW;  // s->v is an outer edge: the rest lies clockwise from v0
+          v = v0;
+        }
+        if (phase == PHASE_CW && predecessor_of(v) == s) phase = PHASE_DONE;
+        if (phase >= PHASE_DONE || --budget < 0) break;
+        c = walked_before(v) ? apex_from_star(v, s, phase == PHASE_CCW) : -1;
+        if (c < 0) break;
       }
-      if (phase == PHASE_CCW && pred_s == v) {
-        phase = PHASE_CW;  // s->v is an outer edge: the rest lies clockwise from v0
-        v = v0;
-      }
-      if (phase == PHASE_CW && predecessor_of(v) == s) phase = PHASE_DONE;
-      if (phase >= PHASE_DONE) break;
+      if (phase >= PHASE_DONE || budget < 0) break;
       // Search the next edge: s->v counter-clockwise, v->s clockwise.
       dvec2 pv = site_at(v);
       ia = phase == PHASE_CCW ? s : v;
@@ -456,6 +520,12 @@ void main() {
     }
   }
   site_info[s] = ivec2(int(info), at);
+  if (params.pass < params.pass_mask) {
+    for (int t = 0; t < deg; ++t) {
+      int u = star_at(row, info, t);
+      if ((u & params.pass_mask) > params.pass) atomicExchange(site_info_words[2 * u + 1], s);
+    }
+  }
   if (at < 0) return;
   // In star order: star_links.comp numbers a site's triangles the same way.
   int write_at = 3 * at;

@@ -114,7 +114,9 @@ static_assert(sizeof(GridParams) == 48);
 struct StarParams {
   GridParams grid;
   std::int32_t big_scan_cells;
-  std::int32_t pad[3];
+  std::int32_t pass;       // the class of sites this dispatch walks
+  std::int32_t pass_mask;  // classes - 1
+  std::int32_t pad;
 };
 static_assert(sizeof(StarParams) == 64);
 
@@ -351,8 +353,8 @@ class VulkanBackend final : public Backend {
 
   // lavapipe breaks out of every loop after 65535 iterations per SIMD batch (8 lanes); a lane
   // budget of 1000 keeps the batch under that cap (the shaders also check a canary). In
-  // star.comp every pass of each of its four nested loops spends from the budget of a lane
-  // taking it, so a batch makes at most 4 x 8 x 1000 back-edges; a site needs about 120 (1M
+  // star.comp every pass of each of its five loops spends from the budget of a lane taking it,
+  // so a batch makes at most 5 x 8 x 1000 back-edges; a site needs about 120 (1M
   // uniform), and the ~0.07% that would need more are cheaper in the seam stage: 2000 cut the
   // deferrals by a quarter but cost more device time than the seam saved. On GPUs a
   // star walk still gets a budget, 20,000 units: the kernel lasts as long as its slowest
@@ -367,6 +369,16 @@ class VulkanBackend final : public Backend {
       return std::uint32_t(std::max(1L, std::atol(env)));
     if (context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return 1000u;
     return star ? 20000u : 1000000000u;
+  }
+
+  // star.comp's passes: classes of sites by their ids' low bits, walked one after another.
+  // EXPANSE_VULKAN_STAR_PASSES (1, 2, 4, 8, 16) overrides, for experiments.
+  static std::uint64_t star_passes() {
+    if (const char* env = std::getenv("EXPANSE_VULKAN_STAR_PASSES")) {
+      const long k = std::atol(env);
+      if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return std::uint64_t(k);
+    }
+    return 4;
   }
 
   // star.comp's APEX_FILTERS: the filters in the edge's frame on CPU devices (lavapipe: star
@@ -960,14 +972,22 @@ class VulkanBackend final : public Backend {
     StarParams params{{{frame.origin[0], frame.origin[1]}, {frame.inv_width[0], frame.inv_width[1]},
                        cells, std::int32_t(n), 0, std::int32_t(capacity)},
                       std::int32_t(std::clamp(48.0 / per_bucket, 4.0, 1.0e6)),
-                      {0, 0, 0}};
+                      0,
+                      0,
+                      0};
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
-    for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
-      params.grid.first = std::int32_t(first);
-      const std::uint64_t left = (n - first + wg - 1) / wg;
-      rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
+    const std::uint64_t classes = star_passes();
+    params.pass_mask = std::int32_t(classes - 1);
+    for (std::uint64_t pass = 0; pass < classes; ++pass) {
+      params.pass = std::int32_t(pass);
+      const std::uint64_t count = (n + classes - 1 - pass) / classes;  // sites pass, pass + classes, ...
+      for (std::uint64_t first = 0; first < count; first += max_groups * wg) {
+        params.grid.first = std::int32_t(first);
+        const std::uint64_t left = (count - first + wg - 1) / wg;
+        rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
+      }
+      rec.barrier();
     }
-    rec.barrier();
     rec.timestamp("vulkan: stars");
     if (links) {
       LinkParams link_params{std::int32_t(n), 0, std::int32_t(unresolved_capacity), 0};
