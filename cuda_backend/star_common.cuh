@@ -44,8 +44,8 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
 struct EarlierStars {
   const int* star = nullptr;
   const std::uint32_t* info = nullptr;
-  /// Word u: a site of an earlier class whose star has u, left there for u to start its walk at;
-  /// possibly stale (a previous run's, or another count's), so checked before use.
+  /// Word u: a site of an earlier class whose star has u, left there for u to start its walk at
+  /// (or -1); checked before use, as another run's word could be stale.
   int* first_neighbour = nullptr;
   int sites = 0;
   int pass = 0;  ///< the class walking now

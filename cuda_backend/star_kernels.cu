@@ -387,12 +387,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // first pass hands on are walked again before the next class starts.
     const int classes = order ? 1 : star_classes();
     EarlierStars earlier{d_star.get(), d_info.get(), d_owned.get(), static_cast<int>(n), 0, classes - 1};
+    // No first neighbour yet (a stale one would be checked, but read uninitialised on a first run).
+    if (classes > 1) EXPANSE_CUDA(cudaMemsetAsync(d_owned.get(), 0xff, n * sizeof(int), stream));
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       for (int c = 0; c < classes; ++c) {
         earlier.pass = c;
         const std::size_t count = (n + classes - 1 - c) / classes;  // local ids c, c + classes, ...
+        if (count == 0) break;  // fewer sites than classes
         if (c > 0 && two_passes) EXPANSE_CUDA(cudaMemsetAsync(d_counters.get() + 7, 0, sizeof(unsigned), stream));
         star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(count, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(count), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
