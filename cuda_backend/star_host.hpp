@@ -99,7 +99,7 @@ class HostStarLayout {
   /// EarlierStars describes), spread over `threads` host threads; the result does not depend on
   /// their number.
   StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes,
-                          int classes = 1) {
+                          int classes = 1, int class_shift = 0) {
     if (budget == 0) budget = default_budget(search);
     if (search != StarSearch::boxes) classes = 1;
     const std::size_t n = points_.size();
@@ -108,13 +108,16 @@ class HostStarLayout {
     std::vector<int> first_neighbour(n, -1);
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
-    std::vector<std::uint32_t> work_of(n, 0);  // in the threads' order: class by class
-    EarlierStars earlier{star_.data(), info_.data(), first_neighbour.data(), static_cast<int>(n), 0, classes - 1};
+    // In the threads' order, class by class (a class's last run may be short: idle threads).
+    std::vector<std::uint32_t> work_of(n + (std::size_t(classes) << class_shift), 0);
+    EarlierStars earlier{star_.data(), info_.data(), first_neighbour.data(), static_cast<int>(n), 0, classes - 1,
+                         class_shift};
     std::size_t class_start = 0, class_count = 0;
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
       for (std::size_t k = class_count * p / threads; k < class_count * (p + 1) / threads; ++k) {
-        const std::size_t i = k * static_cast<std::size_t>(classes) + static_cast<std::size_t>(earlier.pass);
+        const std::size_t i = static_cast<std::size_t>(earlier.site_of_thread(static_cast<int>(k)));
+        if (i >= n) continue;
         int* row = star_.data() + i * kStar;
         const StarWalk w =
             search == StarSearch::boxes
@@ -141,7 +144,7 @@ class HostStarLayout {
         info_[i] = star_info(w);
         for (int t = 0; t < star_degree(info_[i]); ++t) {  // as walk_and_record leaves them
           const int u = star_at(star_.data(), info_[i], static_cast<int>(i), t);
-          if ((u & earlier.mask) > earlier.pass)
+          if (earlier.class_of(u) > earlier.pass)
             std::atomic_ref<int>(first_neighbour[static_cast<std::size_t>(u)]).store(static_cast<int>(i));
         }
       }
@@ -149,7 +152,7 @@ class HostStarLayout {
     for (int c = 0; c < classes; ++c) {
       earlier.pass = c;
       class_start += class_count;
-      class_count = (n + static_cast<std::size_t>(classes - 1 - c)) / static_cast<std::size_t>(classes);
+      class_count = earlier.threads_for(n);
       std::vector<std::thread> workers;
       for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
       walk_range(0);
@@ -170,8 +173,8 @@ class HostStarLayout {
     }
     auto lockstep = [&](std::size_t group) {
       std::uint64_t sum = 0;
-      for (std::size_t first = 0; first < n; first += group)
-        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(n, first + group));
+      for (std::size_t first = 0; first < class_start + class_count; first += group)
+        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(class_start + class_count, first + group));
       return sum;
     };
     totals.lockstep_work_8 = lockstep(8);

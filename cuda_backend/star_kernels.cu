@@ -84,7 +84,7 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     const int deg = star_degree(inf);
     for (int t = 0; t < deg; ++t) {
       const int u = star_at(star, inf, i, t);
-      if ((u & earlier.mask) > earlier.pass) atomicExch(earlier.first_neighbour + u, i);
+      if (earlier.class_of(u) > earlier.pass) atomicExch(earlier.first_neighbour + u, i);
     }
   }
 }
@@ -100,7 +100,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   // Thread t walks local site order[t], or the t-th of this pass's class: cell order measured
   // faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin:
   // 629 vs 733 ms). `order` comes with one class.
-  const int i = order ? order[t] : t * (earlier.mask + 1) + earlier.pass;
+  const int i = order ? order[t] : earlier.site_of_thread(t);
+  if (i >= earlier.sites) return;
   walk_and_record<Search, Walker::thread, ExactLattice>(g, pred, i, star, info, owned, counters, budget, pass,
                                                          retry_list, earlier);
 }
@@ -258,6 +259,11 @@ int star_classes() {
   }
   return 4;
 }
+/// log2 of the runs of consecutive local ids in one class; EXPANSE_CUDA_CLASS_SHIFT overrides.
+int star_class_shift() {
+  if (const char* env = std::getenv("EXPANSE_CUDA_CLASS_SHIFT")) return std::clamp(std::atoi(env), 0, 10);
+  return 5;
+}
 /// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
 /// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes
 /// their triangles for less: budget 2^13 against 2^16 (H100, 2026-11-24, session 6 call 4, star
@@ -386,7 +392,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // The classes of sites (EarlierStars), one after another; each class's sites that the
     // first pass hands on are walked again before the next class starts.
     const int classes = order ? 1 : star_classes();
-    EarlierStars earlier{d_star.get(), d_info.get(), d_owned.get(), static_cast<int>(n), 0, classes - 1};
+    EarlierStars earlier{d_star.get(), d_info.get(), d_owned.get(), static_cast<int>(n), 0, classes - 1,
+                         classes > 1 ? star_class_shift() : 0};
     // No first neighbour yet (a stale one would be checked, but read uninitialised on a first run).
     if (classes > 1) EXPANSE_CUDA(cudaMemsetAsync(d_owned.get(), 0xff, n * sizeof(int), stream));
     auto walk_passes = [&](auto min_blocks, auto lattice) {
@@ -394,7 +401,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr bool exact = decltype(lattice)::value;
       for (int c = 0; c < classes; ++c) {
         earlier.pass = c;
-        const std::size_t count = (n + classes - 1 - c) / classes;  // local ids c, c + classes, ...
+        const std::size_t count = earlier.threads_for(n);
         if (count == 0) break;  // fewer sites than classes
         if (c > 0 && two_passes) EXPANSE_CUDA(cudaMemsetAsync(d_counters.get() + 7, 0, sizeof(unsigned), stream));
         star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(count, 128), 128, 0, stream>>>(

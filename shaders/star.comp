@@ -79,14 +79,16 @@ layout(push_constant) uniform Params {
   // A scan of more cells than this stops at the first better candidate, to plan a smaller box.
   int big_scan_cells;
   // Passes (docs/algorithm.md, "Passes"): the sites are split into pass_mask + 1 classes by
-  // their id's low bits, walked class by class; this dispatch walks class `pass`. A site takes
-  // every triangle it shares with a site of an earlier class from that site's star, and
-  // searches only for the rest.
+  // their ids (runs of 2^pass_shift consecutive ids in turn), walked class by class; this
+  // dispatch walks class `pass`. A site takes every triangle it shares with a site of an
+  // earlier class from that site's star, and searches only for the rest.
   int pass;
   int pass_mask;  // classes - 1, a power of two minus one; 0: one pass
+  int pass_shift;
 } params;
 
-bool walked_before(int u) { return (u & params.pass_mask) < params.pass; }
+int class_of(int u) { return (u >> params.pass_shift) & params.pass_mask; }
+bool walked_before(int u) { return class_of(u) < params.pass; }
 
 dvec2 site_at(int i) {
   uvec4 u = texelFetch(site_texels, i);
@@ -216,7 +218,8 @@ void apex_region(dvec2 a, dvec2 b, dvec2 c, out ivec2 lo_cell, out ivec2 hi_cell
 
 void main() {
   int i = params.first_site + int(gl_GlobalInvocationID.x);
-  int s = i * (params.pass_mask + 1) + params.pass;
+  int run = i >> params.pass_shift;
+  int s = ((run * (params.pass_mask + 1) + params.pass) << params.pass_shift) + (i - (run << params.pass_shift));
   if (s >= params.site_count) return;
   int budget = LOOP_BUDGET;
   ivec2 grid_hi = ivec2(params.cells - 1);
@@ -523,7 +526,7 @@ void main() {
   if (params.pass < params.pass_mask) {
     for (int t = 0; t < deg; ++t) {
       int u = star_at(row, info, t);
-      if ((u & params.pass_mask) > params.pass) atomicExchange(site_info_words[2 * u + 1], s);
+      if (class_of(u) > params.pass) atomicExchange(site_info_words[2 * u + 1], s);
     }
   }
   if (at < 0) return;

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> searches{"boxes"};
   unsigned budget = 0;  // the kernel's default for each search
   std::vector<int> class_counts{1};
+  int class_shift = 0;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   app.add_option("--budget", budget, "work units after which a site defers (default: the kernel's)");
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
   app.add_option("--classes", class_counts, "classes of sites walked one after another (1, 2, 4, ...)")->delimiter(',');
+  app.add_option("--class-shift", class_shift, "log2 of the runs of consecutive sites in one class");
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
 
@@ -55,12 +57,12 @@ int main(int argc, char** argv) {
         using expanse::detail::cuda::StarSearch;
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
         const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
-        const auto t = layout.walk_all(budget, threads, kind, classes);
+        const auto t = layout.walk_all(budget, threads, kind, classes, class_shift);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
             {"distribution", dist}, {"n", n}, {"sites", t.sites},
-            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"classes", classes},
+            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"classes", classes}, {"class_shift", class_shift},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},

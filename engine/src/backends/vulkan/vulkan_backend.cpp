@@ -116,7 +116,7 @@ struct StarParams {
   std::int32_t big_scan_cells;
   std::int32_t pass;       // the class of sites this dispatch walks
   std::int32_t pass_mask;  // classes - 1
-  std::int32_t pad;
+  std::int32_t pass_shift;  // log2 of the runs of consecutive ids in one class
 };
 static_assert(sizeof(StarParams) == 64);
 
@@ -379,6 +379,11 @@ class VulkanBackend final : public Backend {
       if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return std::uint64_t(k);
     }
     return 4;
+  }
+  // log2 of the runs of consecutive ids in one class; EXPANSE_VULKAN_CLASS_SHIFT overrides.
+  static int star_class_shift() {
+    if (const char* env = std::getenv("EXPANSE_VULKAN_CLASS_SHIFT")) return std::clamp(std::atoi(env), 0, 10);
+    return 0;
   }
 
   // star.comp's APEX_FILTERS: the filters in the edge's frame on CPU devices (lavapipe: star
@@ -978,9 +983,11 @@ class VulkanBackend final : public Backend {
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
     const std::uint64_t classes = star_passes();
     params.pass_mask = std::int32_t(classes - 1);
-    for (std::uint64_t pass = 0; pass < classes; ++pass) {
+    params.pass_shift = classes > 1 ? std::int32_t(star_class_shift()) : 0;
+    const std::uint64_t runs = (n + (std::uint64_t{1} << params.pass_shift) - 1) >> params.pass_shift;
+    for (std::uint64_t pass = 0; pass < classes && pass < runs; ++pass) {
       params.pass = std::int32_t(pass);
-      const std::uint64_t count = (n + classes - 1 - pass) / classes;  // sites pass, pass + classes, ...
+      const std::uint64_t count = ((runs - pass + classes - 1) / classes) << params.pass_shift;
       for (std::uint64_t first = 0; first < count; first += max_groups * wg) {
         params.grid.first = std::int32_t(first);
         const std::uint64_t left = (count - first + wg - 1) / wg;
