@@ -37,54 +37,6 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
-/// The stars of sites walked in earlier passes (docs/algorithm.md, "Passes"): the sites are split
-/// into mask + 1 classes by their local ids (runs of 2^shift consecutive ids in turn) and walked
-/// class by class, and a walk
-/// takes every triangle it shares with a site of an earlier class from that site's star instead
-/// of searching for it. The default, one class, reads nothing.
-struct EarlierStars {
-  const int* star = nullptr;
-  const std::uint32_t* info = nullptr;
-  /// Word u: a site of an earlier class whose star has u, left there for u to start its walk at
-  /// (or -1); checked before use, as another run's word could be stale.
-  int* first_neighbour = nullptr;
-  int sites = 0;
-  int pass = 0;  ///< the class walking now
-  int mask = 0;   ///< classes - 1 (a power of two minus one)
-  int shift = 0;  ///< log2 of the runs of consecutive ids in one class
-
-  EXPANSE_DEVICE_FORCE int class_of(int u) const { return (u >> shift) & mask; }
-  EXPANSE_DEVICE_FORCE bool walked(int u) const { return class_of(u) < pass; }
-  /// The t-th site of class `pass` (possibly past the last site).
-  EXPANSE_DEVICE_FORCE int site_of_thread(int t) const {
-    return ((((t >> shift) * (mask + 1)) + pass) << shift) + (t & ((1 << shift) - 1));
-  }
-  /// Threads that cover class `pass` of n sites.
-  EXPANSE_HOST_DEVICE std::size_t threads_for(std::size_t n) const {
-    const std::size_t runs = (n + (std::size_t{1} << shift) - 1) >> shift, classes = std::size_t(mask) + 1;
-    return std::size_t(pass) < runs ? ((runs - std::size_t(pass) + classes - 1) / classes) << shift : 0;
-  }
-
-  /// The apex of s->u (counter-clockwise: the neighbour just before s in u's star) or of u->s
-  /// (clockwise: just after s), for u walked; -1 where u's star does not tell.
-  EXPANSE_DEVICE_FORCE int apex_from(int u, int s, bool counter_clockwise) const {
-    const std::uint32_t inf = info[u];
-    if (star_deferred(inf)) return -1;
-    const int p = star_find(star, inf, u, s);
-    const int t = counter_clockwise ? p - 1 : p + 1;
-    if (p < 0 || (!star_closed(inf) && (t < 0 || t >= star_degree(inf)))) return -1;
-    return star_at(star, inf, u, t);
-  }
-
-  /// A neighbour of s from an earlier class, or -1.
-  EXPANSE_DEVICE_FORCE int first_neighbour_of(int s) const {
-    if (pass == 0) return -1;
-    const int u = first_neighbour[s];
-    if (u < 0 || u >= sites || !walked(u) || star_deferred(info[u]) || star_find(star, info[u], u, s) < 0) return -1;
-    return u;
-  }
-};
-
 /// Index of the CCW triangle (x, y, z) in the output: its owner is its smallest vertex, and the
 /// owner numbers its own triangles in star order from offset[owner]. -1 if the owner deferred.
 EXPANSE_DEVICE int triangle_index(const int* star, const std::uint32_t* info, const int* offset,

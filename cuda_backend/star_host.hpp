@@ -6,7 +6,6 @@
 #error "star_host.hpp is host code: include it from C++ translation units only"
 #endif
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <numeric>
 #include <thread>
@@ -95,39 +94,28 @@ class HostStarLayout {
   }
 
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
-  /// kernel's default for the search; `classes` of sites walked one after another, as
-  /// EarlierStars describes), spread over `threads` host threads; the result does not depend on
-  /// their number.
-  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes,
-                          int classes = 1, int class_shift = 0) {
+  /// kernel's default for the search), spread over
+  /// `threads` host threads; the result does not depend on their number.
+  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes) {
     if (budget == 0) budget = default_budget(search);
-    if (search != StarSearch::boxes) classes = 1;
     const std::size_t n = points_.size();
     star_.assign(n * kStar, -1);
     info_.assign(n, 0);
-    std::vector<int> first_neighbour(n, -1);
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
-    // In the threads' order, class by class (a class's last run may be short: idle threads).
-    std::vector<std::uint32_t> work_of(n + (std::size_t(classes) << class_shift), 0);
-    EarlierStars earlier{star_.data(), info_.data(), first_neighbour.data(), static_cast<int>(n), 0, classes - 1,
-                         class_shift};
-    std::size_t class_start = 0, class_count = 0;
+    std::vector<std::uint32_t> work_of(n, 0);
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
-      for (std::size_t k = class_count * p / threads; k < class_count * (p + 1) / threads; ++k) {
-        const std::size_t i = static_cast<std::size_t>(earlier.site_of_thread(static_cast<int>(k)));
-        if (i >= n) continue;
+      for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
         int* row = star_.data() + i * kStar;
-        const StarWalk w =
-            search == StarSearch::boxes
-                ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), static_cast<int>(i), row,
-                                                                          budget, earlier)
-                                  : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i), row,
-                                                                    budget, earlier))
-                : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
+        const StarWalk w = search == StarSearch::boxes
+                               ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(),
+                                                                                           static_cast<int>(i), row, budget)
+                                                 : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i),
+                                                                                   row, budget))
+                               : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
         ++totals.sites;
-        work_of[class_start + k] = w.work;
+        work_of[i] = w.work;
         totals.predicates += w.predicates;
         totals.work += w.work;
         totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
@@ -142,22 +130,12 @@ class HostStarLayout {
           continue;
         }
         info_[i] = star_info(w);
-        for (int t = 0; t < star_degree(info_[i]); ++t) {  // as walk_and_record leaves them
-          const int u = star_at(star_.data(), info_[i], static_cast<int>(i), t);
-          if (earlier.class_of(u) > earlier.pass)
-            std::atomic_ref<int>(first_neighbour[static_cast<std::size_t>(u)]).store(static_cast<int>(i));
-        }
       }
     };
-    for (int c = 0; c < classes; ++c) {
-      earlier.pass = c;
-      class_start += class_count;
-      class_count = earlier.threads_for(n);
-      std::vector<std::thread> workers;
-      for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
-      walk_range(0);
-      for (auto& worker : workers) worker.join();
-    }
+    std::vector<std::thread> workers;
+    for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
+    walk_range(0);
+    for (auto& worker : workers) worker.join();
     StarWorkTotals totals;
     for (const StarWorkTotals& t : part) {
       totals.sites += t.sites;
@@ -173,8 +151,8 @@ class HostStarLayout {
     }
     auto lockstep = [&](std::size_t group) {
       std::uint64_t sum = 0;
-      for (std::size_t first = 0; first < class_start + class_count; first += group)
-        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(class_start + class_count, first + group));
+      for (std::size_t first = 0; first < n; first += group)
+        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(n, first + group));
       return sum;
     };
     totals.lockstep_work_8 = lockstep(8);

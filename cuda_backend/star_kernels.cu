@@ -40,14 +40,13 @@ enum class WalkPass { only, first, retry };
 template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
-                                                unsigned budget, WalkPass pass, int* retry_list,
-                                                const EarlierStars& earlier) {
+                                                unsigned budget, WalkPass pass, int* retry_list) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
-    w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget, earlier);
+    w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search, ExactLattice>(g, pred, i, row, budget, earlier);
+    w = walk_star_by<Search, ExactLattice>(g, pred, i, row, budget);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -78,32 +77,20 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   const std::uint32_t inf = star_info(w);
   info[i] = inf;
   owned[i] = owned_triangles(star, inf, i);
-  // Each neighbour of a later class may start its walk here. Its word is owned[], which it
-  // overwrites when done.
-  if (earlier.pass < earlier.mask) {
-    const int deg = star_degree(inf);
-    for (int t = 0; t < deg; ++t) {
-      const int u = star_at(star, inf, i, t);
-      if (earlier.class_of(u) > earlier.pass) atomicExch(earlier.first_neighbour + u, i);
-    }
-  }
 }
 
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
-                                                              const int* order, WalkPass pass, int* retry_list,
-                                                              EarlierStars earlier) {
+                                                              const int* order, WalkPass pass, int* retry_list) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= n) return;
-  // Thread t walks local site order[t], or the t-th of this pass's class: cell order measured
-  // faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin:
-  // 629 vs 733 ms). `order` comes with one class.
-  const int i = order ? order[t] : earlier.site_of_thread(t);
-  if (i >= earlier.sites) return;
+  // Thread t walks local site order[t], or t: cell order measured faster than the sites'
+  // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
+  const int i = order ? order[t] : t;
   walk_and_record<Search, Walker::thread, ExactLattice>(g, pred, i, star, info, owned, counters, budget, pass,
-                                                         retry_list, earlier);
+                                                         retry_list);
 }
 
 /// The second pass: the sites the first listed (counters[7] of them), with the full budget, each
@@ -116,12 +103,12 @@ template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
-                                                                    const int* retry_list, EarlierStars earlier) {
+                                                                    const int* retry_list) {
   const unsigned count = counters[7];
   const unsigned warps = gridDim.x * (blockDim.x / 32);
   for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < count; k += warps)
     walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, retry_list[k], star, info, owned, counters, budget,
-                                                        WalkPass::retry, nullptr, earlier);
+                                                        WalkPass::retry, nullptr);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -250,20 +237,6 @@ constexpr int kThreads = 256;
 /// 4096^2 it lost (gaussian 130 against 104, kuzmin 259 against 148; 2^9: 98 / 105 / 330 / 166
 /// against 100 / 104 / 330 / 148), session 5 call 4. Between the two sizes it is not measured.
 unsigned first_pass_budget(std::size_t sites) { return sites <= (std::size_t{1} << 18) ? 1u << 8 : 1u << 10; }
-/// Classes of sites walked one after another (EarlierStars); EXPANSE_CUDA_STAR_PASSES (1, 2, 4,
-/// 8 or 16) overrides, for comparisons.
-int star_classes() {
-  if (const char* env = std::getenv("EXPANSE_CUDA_STAR_PASSES")) {
-    const int k = std::atoi(env);
-    if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return k;
-  }
-  return 4;
-}
-/// log2 of the runs of consecutive local ids in one class; EXPANSE_CUDA_CLASS_SHIFT overrides.
-int star_class_shift() {
-  if (const char* env = std::getenv("EXPANSE_CUDA_CLASS_SHIFT")) return std::clamp(std::atoi(env), 0, 10);
-  return 5;
-}
 /// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
 /// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes
 /// their triangles for less: budget 2^13 against 2^16 (H100, 2026-11-24, session 6 call 4, star
@@ -387,31 +360,17 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
-        order, WalkPass::only, nullptr, EarlierStars{});
+        order, WalkPass::only, nullptr);
   } else {
-    // The classes of sites (EarlierStars), one after another; each class's sites that the
-    // first pass hands on are walked again before the next class starts.
-    const int classes = order ? 1 : star_classes();
-    EarlierStars earlier{d_star.get(), d_info.get(), d_owned.get(), static_cast<int>(n), 0, classes - 1,
-                         classes > 1 ? star_class_shift() : 0};
-    // No first neighbour yet (a stale one would be checked, but read uninitialised on a first run).
-    if (classes > 1) EXPANSE_CUDA(cudaMemsetAsync(d_owned.get(), 0xff, n * sizeof(int), stream));
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
-      for (int c = 0; c < classes; ++c) {
-        earlier.pass = c;
-        const std::size_t count = earlier.threads_for(n);
-        if (count == 0) break;  // fewer sites than classes
-        if (c > 0 && two_passes) EXPANSE_CUDA(cudaMemsetAsync(d_counters.get() + 7, 0, sizeof(unsigned), stream));
-        star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(count, 128), 128, 0, stream>>>(
-            g, d_pred.get(), static_cast<int>(count), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get(), earlier);
-        if (two_passes)
-          star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get(),
-              earlier);
-      }
+      star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
+          g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+          pass_budget, order, pass, d_retry.get());
+      if (two_passes)
+        star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
     };
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
     if (exact_lattice)

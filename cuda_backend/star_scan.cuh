@@ -130,8 +130,7 @@ enum class Walker { thread, warp };
 /// parameter, not a flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2
 /// uniform star kernel 62.6 -> 100.5 ms, session 8 call 5).
 template <Walker By = Walker::thread, bool ExactLattice = false>
-EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
-                                        const EarlierStars& earlier = {}) {
+EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
@@ -170,14 +169,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   int v0 = -1, v = -1;
   unsigned work = 0, predicates = 0;
   SearchBounds bounds;
-  // A first neighbour from a site of an earlier pass: no nearest-neighbour search (an empty scan).
-  bool known = false;
-  if (const int u = earlier.first_neighbour_of(i); u >= 0) {
-    best = u;
-    best_p = load_site(g.points, u);
-    known = true;
-    y = target.y1;
-  }
 
   // The cells where a site better than `best` could lie, with `bounds` set to match.
   auto region_of_best = [&]() {
@@ -454,11 +445,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
 
       // The target box is scanned.
       visited = target;
-      bool found = known;
-      known = false;
-      if (found) {
-        // Nothing to plan.
-      } else if (best < 0) {
+      bool found = false;
+      if (best < 0) {
         if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
           reason = DeferReason::no_apex;
           phase = deferred;
@@ -484,42 +472,35 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
       if (!found) continue;
 
-      // The search is over: best is the answer. The walk's next step, as in walk_star, and the
-      // steps after it that sites of earlier passes have taken already.
-      int c = best;
-      for (;;) {
-        if (phase == nearest) {
-          v0 = c;
-          if (writer) row[0] = c;
-          w.ccw = 1;
-          v = c;
-          phase = ccw;
-        } else if (c == v0) {
-          if (phase == ccw) {
-            w.closed = true;
-            phase = done;
-          } else {
-            reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
-            phase = deferred;
-          }
-        } else if (w.ccw + w.cw >= kStar) {
-          reason = DeferReason::full_row;
-          phase = deferred;
+      // The search is over: best is the answer. The walk's next step, as in walk_star.
+      const int c = best;
+      if (phase == nearest) {
+        v0 = c;
+        if (writer) row[0] = c;
+        w.ccw = 1;
+        v = c;
+        phase = ccw;
+      } else if (c == v0) {
+        if (phase == ccw) {
+          w.closed = true;
+          phase = done;
         } else {
-          if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
-          (phase == ccw ? w.ccw : w.cw) += 1;
-          v = c;
+          reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+          phase = deferred;
         }
-        if (phase == ccw && pred_s == v) {
-          phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
-          v = v0;
-        }
-        if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
-        if (phase >= done || !earlier.walked(v)) break;
-        c = earlier.apex_from(v, i, phase == ccw);
-        if (c < 0) break;
-        ++work;
+      } else if (w.ccw + w.cw >= kStar) {
+        reason = DeferReason::full_row;
+        phase = deferred;
+      } else {
+        if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
+        (phase == ccw ? w.ccw : w.cw) += 1;
+        v = c;
       }
+      if (phase == ccw && pred_s == v) {
+        phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
+        v = v0;
+      }
+      if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
       if (phase >= done) break;
       // The next edge: s->v counter-clockwise, v->s clockwise.
       const double2 pv = load_site(g.points, v);
@@ -588,10 +569,9 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
 }
 
 template <StarSearch Search, bool ExactLattice = false>
-EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget,
-                                           const EarlierStars& earlier = {}) {
+EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice>(g, pred, i, row, budget, earlier);
+    return walk_star_boxes<Walker::thread, ExactLattice>(g, pred, i, row, budget);
   else
     return walk_star(g, pred, i, row, budget);
 }

@@ -4,7 +4,7 @@
 // sites defer to the seam stage. One JSON line per (distribution, n, grid).
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
-//                           [--search boxes,rings] [--budget N] [--classes 1,4] [--threads 2] [-o FILE.jsonl]
+//                           [--search boxes,rings] [--budget N] [--threads 2] [-o FILE.jsonl]
 //                           [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
@@ -26,8 +26,6 @@ int main(int argc, char** argv) {
   std::vector<std::string> grids{"quantile"};
   std::vector<std::string> searches{"boxes"};
   unsigned budget = 0;  // the kernel's default for each search
-  std::vector<int> class_counts{1};
-  int class_shift = 0;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -38,8 +36,6 @@ int main(int argc, char** argv) {
   app.add_option("--search", searches, "boxes and/or rings (cuda_backend/star_scan.cuh)")->delimiter(',');
   app.add_option("--budget", budget, "work units after which a site defers (default: the kernel's)");
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
-  app.add_option("--classes", class_counts, "classes of sites walked one after another (1, 2, 4, ...)")->delimiter(',');
-  app.add_option("--class-shift", class_shift, "log2 of the runs of consecutive sites in one class");
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
 
@@ -53,16 +49,16 @@ int main(int argc, char** argv) {
       const std::vector<expanse::Point2> points = expanse::generate_points(dist, n, 1);
       const expanse::detail::SiteSet sites = expanse::detail::prepare_sites(points);
       const expanse::detail::Hull hull = expanse::detail::convex_hull(sites);
-      for (const std::string& grid : grids) for (const std::string& search : searches) for (const int classes : class_counts) {
+      for (const std::string& grid : grids) for (const std::string& search : searches) {
         using expanse::detail::cuda::StarSearch;
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
         const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
-        const auto t = layout.walk_all(budget, threads, kind, classes, class_shift);
+        const auto t = layout.walk_all(budget, threads, kind);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
             {"distribution", dist}, {"n", n}, {"sites", t.sites},
-            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"classes", classes}, {"class_shift", class_shift},
+            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},

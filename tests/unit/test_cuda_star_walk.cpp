@@ -9,7 +9,6 @@
 #include <random>
 #include <set>
 #include <string>
-#include <utility>
 
 #include "expanse/generate.hpp"
 #include "predicates/predicates.hpp"
@@ -40,14 +39,13 @@ struct Family {
 
 const char* name_of(cuda::StarSearch search) { return search == cuda::StarSearch::boxes ? "boxes" : "rings"; }
 
-cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::StarSearch search, int classes = 1,
-                                  int class_shift = 0) {
+cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::StarSearch search) {
   const std::vector<Point2> points = family.make(family.n, 5);
   const SiteSet sites = prepare_sites(points);
   const Hull hull = convex_hull(sites);
   REQUIRE(!hull.collinear);
   cuda::HostStarLayout layout(sites, hull, 2.0, quantile);
-  const cuda::StarWorkTotals totals = layout.walk_all(0, 1, search, classes, class_shift);
+  const cuda::StarWorkTotals totals = layout.walk_all(0, 1, search);
   const std::vector<bool> deferred = layout.deferred_sites();
 
   std::set<std::array<std::int32_t, 3>> expected;
@@ -57,8 +55,8 @@ cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::Sta
   for (Triangle t : layout.owned_triangles_in_site_ids()) {
     for (std::int32_t& v : t) v = sites.input_index[v];
     const auto key = canonical(t);
-    INFO(family.name << (quantile ? " (quantile grid, " : " (uniform grid, ") << name_of(search) << ", " << classes
-                     << " classes): triangle " << key[0] << ' ' << key[1] << ' ' << key[2]);
+    INFO(family.name << (quantile ? " (quantile grid, " : " (uniform grid, ") << name_of(search) << "): triangle " << key[0] << ' '
+                     << key[1] << ' ' << key[2]);
     REQUIRE(expected.count(key) == 1);   // exact: a Delaunay triangle of CGAL's, CCW
     REQUIRE(emitted.insert(key).second);  // emitted once
   }
@@ -120,36 +118,6 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
       }
     }
   }
-}
-
-TEST_CASE("CUDA star walk on the CPU: walks in classes read earlier stars, exactly", "[cuda][star]") {
-  // Each class reads the triangles it shares with earlier classes from their stars (and starts
-  // at a neighbour one of them left it), so it must find the same triangles with fewer
-  // searches. Two classes of single ids, four of runs of 32 (the CUDA kernel's: a warp's);
-  // quantile and uniform grids.
-  namespace p = test::points;
-  const std::vector<Family> families = {
-      {"uniform", p::uniform, 20000, 0.001, 0.001},
-      {"kuzmin", p::kuzmin, 20000, 0.01, 1.0},
-      {"grid", p::grid, 10000, 0.001, 0.001},
-      {"duplicates", p::duplicates, 6000, 0.001, 0.001},
-      {"thin_circle", p::thin_circle, 2000, 1.0, 1.0},
-      {"square_boundary", p::square_boundary, 2000, 0.001, 0.001},
-      {"cross", p::cross, 2000, 0.001, 0.001},
-  };
-  for (const auto [classes, shift] : {std::pair{2, 0}, std::pair{4, 5}})
-    for (const bool quantile : {true, false})
-      for (const Family& family : families)
-        DYNAMIC_SECTION(family.name << (quantile ? " quantile, " : " uniform, ") << classes << " classes, runs of "
-                                    << (1 << shift)) {
-          const SiteSet sites = prepare_sites(family.make(family.n, 5));  // check_family's sites
-          const auto one = cuda::HostStarLayout(sites, convex_hull(sites), 2.0, quantile).walk_all();
-          const cuda::StarWorkTotals totals = check_family(family, quantile, cuda::StarSearch::boxes, classes, shift);
-          if (family.max_deferred_quantile < 1.0 && quantile) {
-            INFO("predicates: " << totals.predicates << " in classes, " << one.predicates << " in one");
-            CHECK(totals.predicates < one.predicates);
-          }
-        }
 }
 
 TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overflow nor run away", "[cuda][star]") {

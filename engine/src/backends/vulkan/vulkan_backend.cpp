@@ -371,14 +371,20 @@ class VulkanBackend final : public Backend {
     return star ? 20000u : 1000000000u;
   }
 
-  // star.comp's passes: classes of sites by their ids' low bits, walked one after another.
+  // star.comp's passes: classes of sites walked one after another, each reading the triangles
+  // it shares with earlier classes from their stars. Four classes of single ids on CPU devices:
+  // lavapipe, 1M uniform, star shader 755-802 -> 629-645 ms (this VM, 2026-11-25; two 660-703,
+  // eight 660-700; runs of 8 ids 760). One class on GPUs: on the H100 every split was slower,
+  // though it evaluates a fifth to two fifths fewer predicates (4096^2 uniform star shader 79 ->
+  // 101 ms with four classes of single ids, 88 with two of runs of 32, 108 with four; kuzmin
+  // 170 -> 201-260; cuda_backend/results/2026-11-25-h100-s10, calls 3-4).
   // EXPANSE_VULKAN_STAR_PASSES (1, 2, 4, 8, 16) overrides, for experiments.
-  static std::uint64_t star_passes() {
+  std::uint64_t star_passes() const {
     if (const char* env = std::getenv("EXPANSE_VULKAN_STAR_PASSES")) {
       const long k = std::atol(env);
       if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return std::uint64_t(k);
     }
-    return 4;
+    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4 : 1;
   }
   // log2 of the runs of consecutive ids in one class; EXPANSE_VULKAN_CLASS_SHIFT overrides.
   static int star_class_shift() {
