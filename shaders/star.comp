@@ -64,7 +64,8 @@ layout(std430, set = 0, binding = 5) buffer Star { ivec4 star4[]; };
 // Site s: (star info (star_common.glsl), first output triangle of s or -1).
 layout(std430, set = 0, binding = 6) buffer SiteInfo { ivec2 site_info[]; };
 // The same words: a site leaves its id in word 2u + 1 of each neighbour u of a later pass, which
-// starts its walk there instead of at its nearest neighbour.
+// starts its walk there instead of at its nearest neighbour (-1: none did; the host fills the
+// words so before the first pass, and only finished stars leave their ids).
 layout(std430, set = 0, binding = 6) buffer SiteInfoWords { int site_info_words[]; };
 // Quantile cells' boundaries (unused with uniform cells).
 layout(std430, set = 0, binding = 7) readonly buffer CellBounds { double cell_bounds[]; };
@@ -119,16 +120,6 @@ int apex_from_star(int u, int s, bool counter_clockwise) {
   int t = counter_clockwise ? p - 1 : p + 1;
   if (p < 0 || (!star_closed(info) && (t < 0 || t >= star_degree(info)))) return -1;
   return star_at(row, info, t);
-}
-
-// Whether u is a site of an earlier pass whose star has s: then u is a Delaunay neighbour of s.
-// The word a site reads may be a previous run's: it is checked, not trusted.
-bool earlier_neighbour(int u, int s) {
-  if (u < 0 || u >= params.site_count || !walked_before(u)) return false;
-  uint info = uint(site_info[u].x);
-  if (star_deferred(info)) return false;
-  StarRow row = earlier_star(u);
-  return star_find(row, info, s) >= 0;
 }
 
 const int PHASE_NEAREST = 0;  // nearest neighbour v0 of s
@@ -257,7 +248,7 @@ void main() {
   bool known = false;
   if (params.pass > 0) {
     int u = site_info_words[2 * s + 1];
-    if (earlier_neighbour(u, s)) {  // the walk starts at u
+    if (u >= 0) {  // the walk starts at u
       best = u;
       best_p = site_at(u);
       known = true;

@@ -977,6 +977,8 @@ class VulkanBackend final : public Backend {
     else
       rec.barrier();  // after the ring's copies
     rec.fill(counters, 0);
+    const std::uint64_t classes = star_passes();
+    if (classes > 1) rec.fill(site_info, ~0u);  // no first neighbours yet (star.comp)
     rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
     // on finding a better candidate.
@@ -987,7 +989,6 @@ class VulkanBackend final : public Backend {
                       0,
                       0};
     const std::uint64_t max_groups = ctx.limits().maxComputeWorkGroupCount[0];
-    const std::uint64_t classes = star_passes();
     params.pass_mask = std::int32_t(classes - 1);
     params.pass_shift = classes > 1 ? std::int32_t(star_class_shift()) : 0;
     const std::uint64_t runs = (n + (std::uint64_t{1} << params.pass_shift) - 1) >> params.pass_shift;
