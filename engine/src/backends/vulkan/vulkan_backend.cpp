@@ -10,9 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -25,6 +22,9 @@
 #include <ranges>
 #include <thread>
 #include <unordered_map>
+#if defined(__SSE2__)
+#include <emmintrin.h>  // HostStar::find
+#endif
 
 #include "backends/backend.hpp"
 #include "backends/vulkan/device_bucketing.hpp"
@@ -376,8 +376,8 @@ class VulkanBackend final : public Backend {
 
   // star.comp's passes: classes of sites walked one after another, each reading the triangles
   // it shares with earlier classes from their stars. Four classes of single ids on CPU devices:
-  // lavapipe, 1M uniform, star shader 755-802 -> 629-645 ms (this VM, 2026-11-25; two 660-703,
-  // eight 660-700; runs of 8 ids 760). One class on GPUs: on the H100 every split was slower,
+  // lavapipe, 1M uniform, star shader 755-802 -> 610-645 ms (this VM, 2026-11-25; two 660-703,
+  // eight 610-700; runs of 8 ids 760). One class on GPUs: on the H100 every split was slower,
   // though it evaluates a fifth to two fifths fewer predicates (4096^2 uniform star shader 79 ->
   // 101 ms with four classes of single ids, 88 with two of runs of 32, 108 with four; kuzmin
   // 170 -> 201-260; cuda_backend/results/2026-11-25-h100-s10, calls 3-4).
