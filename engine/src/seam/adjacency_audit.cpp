@@ -8,6 +8,9 @@
 #include "seam/edge_map.hpp"
 
 namespace expanse::detail {
+namespace {
+constexpr std::size_t kAhead = 16;
+}  // namespace
 
 bool adjacency_is_trustworthy(const PartialTriangulation& partial, const Hull& hull) {
   const auto& tris = partial.triangles;
@@ -24,6 +27,17 @@ bool adjacency_is_trustworthy(const PartialTriangulation& partial, const Hull& h
   parallel_chunks(count, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       if ((t & 1023) == 0 && !consistent.load(std::memory_order_relaxed)) return;
+      // The neighbours a few triangles ahead, fetched early: they may lie anywhere in the
+      // output (lavapipe's star passes emit class by class). 1M uniform on lavapipe: audit
+      // 27-33 -> 15 ms in four passes, 13.5 -> 11.9 in one (2026-11-25).
+      if (t + kAhead < end) {
+        for (const std::int32_t u : nbrs[t + kAhead]) {
+          if (u >= 0 && static_cast<std::size_t>(u) < count) {
+            __builtin_prefetch(&tris[static_cast<std::size_t>(u)]);
+            __builtin_prefetch(&nbrs[static_cast<std::size_t>(u)]);
+          }
+        }
+      }
       const Triangle& tri = tris[t];
       for (int k = 0; k < 3; ++k) {
         const std::int32_t x = tri[(k + 1) % 3], y = tri[(k + 2) % 3];
