@@ -1233,6 +1233,13 @@ class VulkanBackend final : public Backend {
       }
       return index_in(o == own.site ? own : star_of(o), u, w);
     };
+    // The same, for the triangle at position k of a star already read whose site owns it (the
+    // find that index() would make is the one this position came from): lavapipe, 1M uniform,
+    // links 46 -> 41.5 ms.
+    auto owned_at = [](const HostStar& o, int k) -> std::int32_t {
+      k = k < 0 ? k + o.degree : (k >= o.degree ? k - o.degree : k);
+      return o.emitted() && o.owns(k) ? o.output(k) : no_neighbor;
+    };
     std::vector<std::vector<std::int32_t>> open(workers);
     parallel_chunks(n, workers, [&](std::size_t begin, std::size_t end, unsigned w) {
       for (std::size_t si = begin; si < end; ++si) {
@@ -1249,7 +1256,10 @@ class VulkanBackend final : public Backend {
           const HostStar sa = star_of(a), sb = star_of(b);
           if (!sa.deferred()) {
             const int p = sa.find(b);
-            if (p >= 0 && (p > 0 || sa.closed())) row[0] = index(sa, b, a, sa.at(p - 1));
+            if (p >= 0 && (p > 0 || sa.closed())) {
+              const std::int32_t r = sa.at(p - 1);
+              row[0] = a < b && a < r ? owned_at(sa, p - 1) : index(sa, b, a, r);
+            }
           } else if (!sb.deferred()) {
             const int q = sb.find(a);
             if (q >= 0 && (q < sb.degree - 1 || sb.closed())) row[0] = index(sb, b, a, sb.at(q + 1));
@@ -1257,8 +1267,14 @@ class VulkanBackend final : public Backend {
             open[w].push_back(3 * out);
           }
           // Opposite a: (s, b, next), s's next triangle; opposite b: (s, previous, a).
-          if (me.closed() || t + 2 < me.degree) row[1] = index(me, s, b, me.at(t + 2));
-          if (me.closed() || t >= 1) row[2] = index(me, s, me.at(t - 1), a);
+          if (me.closed() || t + 2 < me.degree) {
+            const std::int32_t next = me.at(t + 2);
+            row[1] = s < next ? owned_at(me, t + 1) : index(me, s, b, next);  // s < b: s owns t
+          }
+          if (me.closed() || t >= 1) {
+            const std::int32_t previous = me.at(t - 1);
+            row[2] = s < previous ? owned_at(me, t - 1) : index(me, s, previous, a);  // s < a
+          }
         }
       }
     });
