@@ -376,11 +376,11 @@ class VulkanBackend final : public Backend {
 
   // star.comp's passes: classes of sites walked one after another, each reading the triangles
   // it shares with earlier classes from their stars. Four classes of single ids on CPU devices:
-  // lavapipe, 1M uniform, star shader 755-802 -> 610-645 ms (this VM, 2026-11-25; two 660-703,
-  // eight 610-700; runs of 8 ids 760). One class on GPUs: on the H100 every split was slower,
-  // though it evaluates a fifth to two fifths fewer predicates (4096^2 uniform star shader 79 ->
-  // 101 ms with four classes of single ids, 88 with two of runs of 32, 108 with four; kuzmin
-  // 170 -> 201-260; cuda_backend/results/2026-11-25-h100-s10, calls 3-4).
+  // lavapipe, 1M uniform, star shader 755-802 -> 553-560 ms (this VM, 2026-11-25; two 586-599,
+  // eight 590-604). One class on GPUs: on the H100 (cuda_backend/results/2026-11-25-h100-s10)
+  // four classes took 4096^2 uniform's star shader from 79 to 92-108 ms, kuzmin's from 169 to
+  // 213-260; two classes 72 against 79 for uniform, but kuzmin 184 against 169 and host to
+  // host the same (call 7).
   // EXPANSE_VULKAN_STAR_PASSES (1, 2, 4, 8, 16) overrides, for experiments.
   std::uint64_t star_passes() const {
     if (const char* env = std::getenv("EXPANSE_VULKAN_STAR_PASSES")) {
