@@ -981,7 +981,7 @@ class VulkanBackend final : public Backend {
       rec.barrier();  // after the ring's copies
     rec.fill(counters, 0);
     const std::uint64_t classes = star_passes();
-    if (classes > 1) rec.fill(site_info, ~0u);  // no first neighbours yet (star.comp)
+    if (classes > 1) rec.fill(site_info, ~0u);  // no earlier neighbours listed yet (star.comp)
     rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
     // on finding a better candidate.
