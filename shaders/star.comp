@@ -14,7 +14,7 @@
 //   scan loop:              the next row segment of cells (the candidates' range);
 //   search loop:            once a box of cells has been scanned: the empty-circle region of
 //                           the best candidate, the next box, or the next edge of the walk
-//                           (its steps read from earlier passes' stars in a loop of their own);
+//                           (the steps that earlier passes' stars tell, in a loop of their own);
 //   exact loop (outermost): once per candidate the filters could not decide (rare): the exact
 //                           certificate and CGAL's perturbation, then back into the scan.
 // The rare exact code thus costs lavapipe once per site, not once per candidate.
