@@ -129,7 +129,12 @@ enum class Walker { thread, warp };
 /// the filters' values are exact and every candidate is decided in the scan. A template
 /// parameter, not a flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2
 /// uniform star kernel 62.6 -> 100.5 ms, session 8 call 5).
-template <Walker By = Walker::thread, bool ExactLattice = false>
+///
+/// DecidesExactly false: the walk has no exact path. At the first candidate the filters cannot
+/// decide it stops, deferred with `handed_on` set, for a walk that has one (the kernel's second
+/// pass). Without the call, the first pass's kernel keeps its walk state in registers: a value
+/// live across an out-of-line call lives in local memory, and the candidate loop reloads it.
+template <Walker By = Walker::thread, bool ExactLattice = false, bool DecidesExactly = true>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
@@ -531,6 +536,11 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     if (phase >= done) break;
 
     // Decide the pending candidate exactly, then resume the scan after it.
+    if constexpr (!DecidesExactly) {
+      w.handed_on = true;
+      reason = DeferReason::undecided;
+      break;
+    }
     const int ip = pending;
     const int verdict = decide_exactly(g.points, phase == nearest, i, ia, ib, best, ip);
     if (verdict == 2) {
@@ -568,10 +578,10 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
   return search == StarSearch::boxes ? 1u << 16 : 1u << 14;
 }
 
-template <StarSearch Search, bool ExactLattice = false>
+template <StarSearch Search, bool ExactLattice = false, bool DecidesExactly = true>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice>(g, pred, i, row, budget);
+    return walk_star_boxes<Walker::thread, ExactLattice, DecidesExactly>(g, pred, i, row, budget);
   else
     return walk_star(g, pred, i, row, budget);
 }
