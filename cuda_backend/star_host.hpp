@@ -160,14 +160,14 @@ class HostStarLayout {
     return totals;
   }
 
-  /// Site i's walk by box scans into `row`, as the kernels' passes walk it: with the exact path
-  /// (the second pass, and a single one) or without (the first pass, which hands such sites on).
-  StarWalk walk_site(int i, int* row, unsigned budget, bool decides_exactly) const {
+  /// Site i's walk by box scans into `row`, as the kernels' passes walk it: the full walk, or
+  /// the first pass's light one (walk_star_boxes' FirstPass).
+  StarWalk walk_site(int i, int* row, unsigned budget, bool first_pass) const {
     if (exact_lattice_)
-      return decides_exactly ? walk_star_by<StarSearch::boxes, true, true>(grid_, pred_.data(), i, row, budget)
-                             : walk_star_by<StarSearch::boxes, true, false>(grid_, pred_.data(), i, row, budget);
-    return decides_exactly ? walk_star_by<StarSearch::boxes, false, true>(grid_, pred_.data(), i, row, budget)
-                           : walk_star_by<StarSearch::boxes, false, false>(grid_, pred_.data(), i, row, budget);
+      return first_pass ? walk_star_by<StarSearch::boxes, true, true>(grid_, pred_.data(), i, row, budget)
+                        : walk_star_by<StarSearch::boxes, true, false>(grid_, pred_.data(), i, row, budget);
+    return first_pass ? walk_star_by<StarSearch::boxes, false, true>(grid_, pred_.data(), i, row, budget)
+                      : walk_star_by<StarSearch::boxes, false, false>(grid_, pred_.data(), i, row, budget);
   }
 
   /// The triangles the emit kernel would write after walk_all(), in site ids.

@@ -37,7 +37,7 @@ namespace {
 /// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
-template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool DecidesExactly = true>
+template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list) {
@@ -46,7 +46,7 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   if constexpr (By == Walker::warp)
     w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search, ExactLattice, DecidesExactly>(g, pred, i, row, budget);
+    w = walk_star_by<Search, ExactLattice, FirstPass>(g, pred, i, row, budget);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -79,7 +79,7 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   owned[i] = owned_triangles(star, inf, i);
 }
 
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool DecidesExactly = true>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
@@ -89,7 +89,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
-  walk_and_record<Search, Walker::thread, ExactLattice, DecidesExactly>(g, pred, i, star, info, owned, counters,
+  walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, i, star, info, owned, counters,
                                                                          budget, pass, retry_list);
 }
 
@@ -354,8 +354,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // them so; rank maps a site to its local id) instead of cell order.
   const char* order_env = std::getenv("EXPANSE_CUDA_ORDER");
   const int* order = order_env && std::strcmp(order_env, "morton") == 0 ? d_rank.get() : nullptr;
-  const char* first_exact_env = std::getenv("EXPANSE_CUDA_FIRST_EXACT");
-  const bool first_exact = first_exact_env && std::strcmp(first_exact_env, "1") == 0;
+  const char* first_walk_env = std::getenv("EXPANSE_CUDA_FIRST_WALK");
+  const bool first_full = first_walk_env && std::strcmp(first_walk_env, "full") == 0;
   const int retry_blocks = 8 * ctx.multiprocessors;
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
@@ -367,10 +367,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
-      // A first pass hands its undecided candidates' sites on to the second, which has the exact
-      // path (EXPANSE_CUDA_FIRST_EXACT=1 gives the first pass one too, for comparisons).
-      if (two_passes && !first_exact)
-        star_kernel<StarSearch::boxes, blocks, exact, false><<<blocks_for(n, 128), 128, 0, stream>>>(
+      // A first pass walks light (no exact path, no row clipping: walk_star_boxes' FirstPass)
+      // and hands its hard sites on to the second; EXPANSE_CUDA_FIRST_WALK=full gives it the
+      // second's full walk, for comparisons.
+      if (two_passes && !first_full)
+        star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
             pass_budget, order, pass, d_retry.get());
       else

@@ -78,7 +78,8 @@ EXPANSE_DEVICE_FORCE void clip_row(const GridView& g, int y, const SearchBounds&
     const double2 a = bounds.a;
     const double ex = bounds.b.x - a.x, ey = bounds.b.y - a.y;
     if (ey != 0.0) {
-      const double t1 = ex * (yl - a.y) / ey, t2 = ex * (yh - a.y) / ey;
+      const double run = ex / ey;  // one division a row; the slop covers its rounding
+      const double t1 = run * (yl - a.y), t2 = run * (yh - a.y);
       const double slop = 1e-9 * (fabs(a.x) + fabs(t1) + fabs(t2) + fabs(ex)) + 1e-300;
       if (ey > 0.0)
         hi = fmin(hi, a.x + fmax(t1, t2) + slop);
@@ -130,11 +131,17 @@ enum class Walker { thread, warp };
 /// parameter, not a flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2
 /// uniform star kernel 62.6 -> 100.5 ms, session 8 call 5).
 ///
-/// DecidesExactly false: the walk has no exact path. At the first candidate the filters cannot
-/// decide it stops, deferred with `handed_on` set, for a walk that has one (the kernel's second
-/// pass). Without the call, the first pass's kernel keeps its walk state in registers: a value
-/// live across an out-of-line call lives in local memory, and the candidate loop reloads it.
-template <Walker By = Walker::thread, bool ExactLattice = false, bool DecidesExactly = true>
+/// FirstPass: the light walk of the kernels' first pass, which leaves its hard sites to the
+/// second (a full walk, by a warp, with the full budget):
+///  - no exact path: at the first candidate the filters cannot decide, the walk stops, deferred
+///    with `handed_on` set. Without the out-of-line call the kernel keeps more of its walk in
+///    registers (a value live across a call lives in local memory, and the candidate loop
+///    reloads it): star kernel -2% (uniform) to -12% (lattice), H100, session 11 call 7;
+///  - no row clipping (clip_row): for the typical search the cut costs more than the cells it
+///    saves, and its bounds cost registers; the searches that need it (long thin regions along
+///    the hull) run past the first pass's budget and are walked again with it. Star kernel
+///    -21% (uniform) to -26% (gaussian) with no clipping anywhere (session 11 call 10).
+template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
@@ -207,7 +214,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     int x0 = (rows && row_part == 1) ? visited.x1 + 1 : target.x0;
     int x1 = (rows && row_part == 0) ? visited.x0 - 1 : target.x1;
     *first = *last = 0;
-    if (x0 <= x1 && (bounds.apex || bounds.disc)) clip_row(g, row_y, bounds, &x0, &x1);
+    if (!FirstPass && x0 <= x1 && (bounds.apex || bounds.disc)) clip_row(g, row_y, bounds, &x0, &x1);
     if (x0 <= x1) {
       const int c0 = row_y * g.gx + x0;
       *first = load_cell_start(g.cell_start, c0);
@@ -223,8 +230,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
-    const int o = ex::apex_orient_filter(ex::apex_lift(edge, q));
-    const int ic = ex::apex_incircle_filter(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
+    const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
+    const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
@@ -251,15 +258,22 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       if (ip == ia || ip == ib || ip == best) verdict = 0;
       return verdict;
     }
-    if (phase == nearest)
+    if (phase == nearest) {
       verdict = best < 0 ? 1
                 : best_d2 < 0x1p-960 ? 2
                 : d2 < best_d2 * (1.0 - 1e-12) ? 1
                 : d2 > best_d2 * (1.0 + 1e-12) ? 0 : 2;
-    else
-      verdict = o == -1 ? 0 : o == ex::uncertain ? 2 : best < 0 ? 1 : ic == -1 ? 0 : ic;
-    predicates += phase != nearest ? 1u + (o == 1 && best >= 0) : 0u;
-    if (ip == ia || ip == ib || ip == best) verdict = 0;
+    } else {
+      // Right of a->b, or outside the best's circle: rejected. Left, and inside it (or no best
+      // yet): better. Anything else the filters cannot tell.
+      const bool reject = o.negative || (o.positive && best >= 0 && ic.negative);
+      const bool better = o.positive && (best < 0 || ic.positive);
+      verdict = reject ? 0 : better ? 1 : 2;
+    }
+    predicates += phase != nearest ? 1u + (o.positive && best >= 0) : 0u;
+    // a, b and the best are never candidates; the filters cannot decide them (a zero
+    // orientation or incircle), so only a flagged candidate needs the test.
+    if (verdict != 0 && (ip == ia || ip == ib || ip == best)) verdict = 0;
     return verdict;
   };
   // What the thread does with a flagged candidate: take it if better, and leave the
@@ -536,7 +550,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     if (phase >= done) break;
 
     // Decide the pending candidate exactly, then resume the scan after it.
-    if constexpr (!DecidesExactly) {
+    if constexpr (FirstPass) {
       w.handed_on = true;
       reason = DeferReason::undecided;
       break;
@@ -578,10 +592,10 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
   return search == StarSearch::boxes ? 1u << 16 : 1u << 14;
 }
 
-template <StarSearch Search, bool ExactLattice = false, bool DecidesExactly = true>
+template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice, DecidesExactly>(g, pred, i, row, budget);
+    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass>(g, pred, i, row, budget);
   else
     return walk_star(g, pred, i, row, budget);
 }

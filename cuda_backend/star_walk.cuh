@@ -23,7 +23,7 @@ struct StarWalk {
   int cw = 0;            ///< neighbours stored from the row's end, clockwise from the first
   unsigned predicates = 0;
   unsigned work = 0;     ///< cells + sites visited
-  bool handed_on = false;  ///< stopped at a candidate only the exact path decides (a walk without one)
+  bool handed_on = false;  ///< a first-pass walk stopped at a candidate only the exact path decides
 };
 
 /// Walks the star of sorted site i into row[0 .. kStar): the counter-clockwise part from index 0

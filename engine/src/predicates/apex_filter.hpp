@@ -65,12 +65,25 @@ EXPANSE_HD inline ApexLift apex_lift(const ApexEdge& e, const ApexPoint& p) {
           add(magnitude(vy_left), magnitude(vy_right))};
 }
 
-/// Sign of orient2d(a, b, p) from p's lift (its K), or `uncertain`; as orient2d_filter.
-EXPANSE_HD inline int apex_orient_filter(const ApexLift& p) {
+/// A filter's verdict as two flags: the value is certainly positive, certainly negative, or
+/// (neither) undecided. Kernels that only branch on a sign test these directly rather than
+/// build the -1/1/`uncertain` code and compare it again (the CUDA candidate loop: fewer
+/// integer instructions a candidate).
+struct FilterSigns {
+  bool positive, negative;
+};
+
+EXPANSE_HD inline int sign_code(FilterSigns s) { return s.positive ? 1 : s.negative ? -1 : uncertain; }
+
+/// orient2d(a, b, p) from p's lift (its K); as orient2d_filter.
+EXPANSE_HD inline FilterSigns apex_orient_signs(const ApexLift& p) {
   const bool trusted = p.k_perm >= 0x1p-974;
-  const int sign = sign_beyond(p.k, mul(orient2d_filter_bound, p.k_perm));
-  return trusted ? sign : uncertain;
+  const double bound = mul(orient2d_filter_bound, p.k_perm);
+  return {trusted && p.k > bound, trusted && -p.k > bound};
 }
+
+/// Sign of orient2d(a, b, p) from p's lift (its K), or `uncertain`; as orient2d_filter.
+EXPANSE_HD inline int apex_orient_filter(const ApexLift& p) { return sign_code(apex_orient_signs(p)); }
 
 /// incircle(a, b, c, p) from c's lift as apex_incircle_filter evaluates it: exact where every
 /// value it forms is an integer multiple of one unit below 2^53 units (small integer lattices:
@@ -79,8 +92,8 @@ EXPANSE_HD inline double apex_incircle_value(const ApexLift& c, const ApexPoint&
   return sub(add(mul(p.x, c.vx), mul(p.y, c.vy)), mul(p.d2, c.k));
 }
 
-/// Sign of incircle(a, b, c, p) for the candidate c whose lift is `c`, or `uncertain`.
-EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p) {
+/// incircle(a, b, c, p) for the candidate c whose lift is `c`.
+EXPANSE_HD inline FilterSigns apex_incircle_signs(const ApexLift& c, const ApexPoint& p) {
   const double ax = magnitude(p.x), ay = magnitude(p.y);
   const double det = apex_incircle_value(c, p);
   const double permanent = add(add(mul(ax, c.vx_perm), mul(ay, c.vy_perm)), mul(p.d2, c.k_perm));
@@ -88,8 +101,13 @@ EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p
   // (2^-1071 each), K's products through |P|^2, |P|^2's through K, the last three products.
   const double losses_scale = add(add(ax, ay), add(add(p.d2, c.k_perm), 1.0));
   const bool trusted = mul(losses_scale, 0x1p-969) <= permanent;
-  const int sign = sign_beyond(det, mul(incircle_filter_bound, permanent));
-  return trusted ? sign : uncertain;
+  const double bound = mul(incircle_filter_bound, permanent);
+  return {trusted && det > bound, trusted && -det > bound};
+}
+
+/// Sign of incircle(a, b, c, p) for the candidate c whose lift is `c`, or `uncertain`.
+EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p) {
+  return sign_code(apex_incircle_signs(c, p));
 }
 
 }  // namespace expanse::detail::exact
