@@ -340,10 +340,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // 78.2 at 4096^2; but kuzmin 172.7 / 158.6, so not for every input. On uniform cells 6 is
   // faster for uniform inputs too (session 7 call 9, star kernel, 6 against 8, two rounds):
   // 4096^2 62.4 / 66.1 ms, 2048^2 23.2 / 24.5, 512^2 2.68 / 2.82; kuzmin, on quantile cells,
-  // still loses (169 / 159). So 6 for uniform cells or integer coordinates.
+  // still loses (169 / 159). So 6 for uniform cells or integer coordinates, until the first
+  // pass walked light: then 8 won on uniform cells too (session 11 call 12, star kernel, 8
+  // against 6, two rounds: uniform 4096^2 47.7 / 49.9 ms, 512^2 2.31 / 2.27; gaussian and
+  // kuzmin, on quantile cells, 63.1 / 66.5 and 95.8 / 104.3). Integer coordinates that are not
+  // a small lattice were not measured again and keep 6.
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
-  const int blocks_per_sm =
-      blocks_env ? std::atoi(blocks_env) : (input.sites.integer_coordinates || buckets.uniform()) ? 6 : 8;
+  const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : input.sites.integer_coordinates ? 6 : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
   // first_pass_budget(n) (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
