@@ -4,7 +4,8 @@
 // The star of s is row s of `star4[]`: 16 ints as four ivec4, read and written whole (on
 // lavapipe every buffer access costs a loop over the lanes, whatever its width, so one ivec4
 // costs what one int does). Per-site info packs
-//   bits 0-4 degree, bits 5-8 start index in the row, STAR_CLOSED, STAR_DEFERRED,
+//   bits 0-4 degree, bits 5-8 start index in the row, STAR_CLOSED, STAR_DEFERRED (bit 11 with
+//   it: STAR_HANDED_ON, between star.comp's light pass and its retry),
 //   bits 16-31: bit t set when s owns its t-th star triangle (s smallest of its three sites).
 // The t-th neighbour counter-clockwise is at row index (start + t) & 15. No integer division
 // anywhere: lavapipe has no vector integer divide and runs `%` lane by lane.
@@ -14,6 +15,8 @@
 const int STAR_ROW = 16;
 const uint STAR_CLOSED = 1u << 9;
 const uint STAR_DEFERRED = 1u << 10;
+// Left by the light first pass for the retry pass (star.comp's EXACT_PATH): deferred, so far.
+const uint STAR_HANDED_ON = STAR_DEFERRED | (1u << 11);
 
 int star_degree(uint info) { return int(info & 31u); }
 int star_start(uint info) { return int((info >> 5) & 15u); }

@@ -5,6 +5,7 @@
 #include "backends/vulkan/vulkan_backend.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -388,6 +389,13 @@ class VulkanBackend final : public Backend {
       if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return std::uint64_t(k);
     }
     return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4 : 1;
+  }
+  // In one class (GPUs), walk the stars in a light pass without the exact path and retry the
+  // sites it hands on (star.comp's EXACT_PATH, RETRY). EXPANSE_VULKAN_LIGHT_PASS=0 walks them in
+  // one full pass, for comparisons.
+  static bool light_first_pass() {
+    const char* env = std::getenv("EXPANSE_VULKAN_LIGHT_PASS");
+    return !(env && env[0] == '0');
   }
   // log2 of the runs of consecutive ids in one class; EXPANSE_VULKAN_CLASS_SHIFT overrides.
   static int star_class_shift() {
@@ -938,19 +946,31 @@ class VulkanBackend final : public Backend {
       device_sorted = at[crowded_cell_counter] == 0;
     }
 
-    const std::uint32_t spec[] = {wg, star_capacity, loop_budget(true), apex_filters(),
-                                  exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u,
-                                  frame.quantile ? 1u : 0u};
+    // One class: a light first pass and a retry of the sites it hands on (star.comp's EXACT_PATH
+    // and RETRY); classes: every pass with the exact path.
+    const std::uint64_t classes = star_passes();
+    const bool light = classes == 1 && light_first_pass();
+    auto star_spec = [&](bool exact_path, bool retry) {
+      return std::array<std::uint32_t, 8>{wg, star_capacity, loop_budget(true), apex_filters(),
+                                          exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u,
+                                          frame.quantile ? 1u : 0u, exact_path ? 1u : 0u, retry ? 1u : 0u};
+    };
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const VkDescriptorType star_types[] = {texel, texel, texel, storage, storage, storage, storage, storage};
-    Kernel& kernel = ctx.kernel("star", spirv::star(), 8, sizeof(StarParams), spec, star_types);
     TexelView site_view(ctx, sites, VK_FORMAT_R32G32B32A32_UINT, bytes_of(n, 16));
     TexelView cell_view(ctx, cell_start, VK_FORMAT_R32_SINT, bytes_of(cell_entries, 4));
     TexelView predecessor_view(ctx, predecessor, VK_FORMAT_R32_SINT, bytes_of(n, 4));
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info, &cell_bounds};
     const TexelView* texels[] = {&site_view, &cell_view, &predecessor_view, nullptr, nullptr, nullptr, nullptr, nullptr};
-    kernel.bind(bindings, texels);
+    auto star_kernel = [&](bool exact_path, bool retry) -> Kernel& {
+      const auto spec = star_spec(exact_path, retry);
+      Kernel& k = ctx.kernel("star", spirv::star(), 8, sizeof(StarParams), spec, star_types);
+      k.bind(bindings, texels);
+      return k;
+    };
+    Kernel& kernel = star_kernel(!light, false);
+    Kernel* retry_kernel = light ? &star_kernel(true, true) : nullptr;
     Kernel* links = nullptr;
     if (!in_place) {
       const std::uint32_t link_spec[] = {wg, star_capacity};
@@ -980,7 +1000,6 @@ class VulkanBackend final : public Backend {
     else
       rec.barrier();  // after the ring's copies
     rec.fill(counters, 0);
-    const std::uint64_t classes = star_passes();
     if (classes > 1) rec.fill(site_info, ~0u);  // no earlier neighbours listed yet (star.comp)
     rec.barrier();
     // A scan of more than ~48 sites' worth of cells (at the typical site's density) re-plans
@@ -1002,6 +1021,14 @@ class VulkanBackend final : public Backend {
         params.grid.first = std::int32_t(first);
         const std::uint64_t left = (count - first + wg - 1) / wg;
         rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
+      }
+      rec.barrier();
+    }
+    if (retry_kernel) {  // the sites the light pass handed on (a site that was not exits at once)
+      for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
+        params.grid.first = std::int32_t(first);
+        const std::uint64_t left = (n - first + wg - 1) / wg;
+        rec.dispatch(*retry_kernel, &params, std::uint32_t(std::min(left, max_groups)));
       }
       rec.barrier();
     }
