@@ -271,8 +271,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       verdict = reject ? 0 : better ? 1 : 2;
     }
     predicates += phase != nearest ? 1u + (o.positive && best >= 0) : 0u;
-    // a, b and the best are never candidates; the filters cannot decide them (a zero
-    // orientation or incircle), so only a flagged candidate needs the test.
+    // a, b and the best are never candidates. No filter rejects them (each is a zero
+    // orientation, incircle or distance, or the best's own distance), so only a flagged
+    // candidate needs the test.
     if (verdict != 0 && (ip == ia || ip == ib || ip == best)) verdict = 0;
     return verdict;
   };
