@@ -357,8 +357,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // them so; rank maps a site to its local id) instead of cell order.
   const char* order_env = std::getenv("EXPANSE_CUDA_ORDER");
   const int* order = order_env && std::strcmp(order_env, "morton") == 0 ? d_rank.get() : nullptr;
+  // The first pass walks light (walk_star_boxes' FirstPass) unless the input is integer but no
+  // small lattice: there the filters leave the cocircular cells of nearly every site undecided,
+  // and a light pass would hand nearly all of them to the second, a warp a site (a 120 x 120
+  // grid 100 units apart hands on every site). EXPANSE_CUDA_FIRST_WALK=full gives the first
+  // pass the full walk for any input, for comparisons.
   const char* first_walk_env = std::getenv("EXPANSE_CUDA_FIRST_WALK");
-  const bool first_full = first_walk_env && std::strcmp(first_walk_env, "full") == 0;
+  const bool first_full = (first_walk_env && std::strcmp(first_walk_env, "full") == 0) ||
+                          (input.sites.integer_coordinates && !exact_lattice);
   const int retry_blocks = 8 * ctx.multiprocessors;
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
@@ -370,9 +376,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
-      // A first pass walks light (no exact path, no row clipping: walk_star_boxes' FirstPass)
-      // and hands its hard sites on to the second; EXPANSE_CUDA_FIRST_WALK=full gives it the
-      // second's full walk, for comparisons.
+      // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (two_passes && !first_full)
         star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),

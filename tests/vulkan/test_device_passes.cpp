@@ -142,6 +142,34 @@ void check_same_output(const std::string& name, const std::vector<Point2>& point
   unsetenv("EXPANSE_VULKAN_STAGED");
 }
 
+// The stars in one class (the GPU default) as a light pass without the exact path and a retry
+// of the sites it hands on (star.comp's EXACT_PATH, RETRY), against one full pass: the same
+// triangles and the same deferrals. The exact path matters on `needs_exact` inputs (a lattice
+// of binary fractions, whose cocircular cells the filters cannot decide but the exact path
+// can): there a retry that did not run would leave the handed-on sites' triangles unmade.
+void check_light_pass(const std::string& name, const std::vector<Point2>& points, bool needs_exact) {
+  const detail::SiteSet sites = detail::prepare_sites(points);
+  const detail::Hull hull = detail::convex_hull(sites);
+  const Layout layout{};
+  setenv("EXPANSE_VULKAN_STAR_PASSES", "1", 1);
+  setenv("EXPANSE_VULKAN_LIGHT_PASS", "0", 1);
+  const detail::GrowResult full = detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
+  unsetenv("EXPANSE_VULKAN_LIGHT_PASS");
+  const detail::GrowResult light = detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
+  unsetenv("EXPANSE_VULKAN_STAR_PASSES");
+  VK_CHECK_THAT(canonical(full.partial.triangles) == canonical(light.partial.triangles),
+                "%s: %zu triangles in one full pass, %zu in the light pass and its retry, or others",
+                name.c_str(), full.partial.triangles.size(), light.partial.triangles.size());
+  VK_CHECK_THAT(full.partial.deferred_expansions == light.partial.deferred_expansions,
+                "%s: %zu deferred sites in one full pass, %zu in the light pass and its retry", name.c_str(),
+                full.partial.deferred_expansions, light.partial.deferred_expansions);
+  if (needs_exact)  // most sites decided, many of them by the exact path
+    VK_CHECK_THAT(full.partial.deferred_expansions * 10 < sites.size(), "%s: %zu of %zu sites deferred",
+                  name.c_str(), full.partial.deferred_expansions, std::size_t(sites.size()));
+  std::printf("  %-40s light pass and retry = one full pass: triangles %7zu  deferred %5zu\n", name.c_str(),
+              light.partial.triangles.size(), light.partial.deferred_expansions);
+}
+
 // The site preparation on the device (prepare_sites.comp, radix_sort.comp) against the host's
 // prepare_sites and convex_hull, then grown on the GPU path from the sites it left on the
 // device: the same sites, input indices, representatives and hull, and the same triangles as
@@ -380,6 +408,12 @@ void test_device_passes() {
     std::vector<Point2> p(70000);
     for (auto& q : p) q = {unit(rng), unit(rng)};
     check_same_output("uniform 70000", p, false);
+    check_light_pass("uniform 70000", p, false);
+    // Not integers, so the light pass takes it (integer inputs off the small lattices do not).
+    std::vector<Point2> g;
+    for (int x = 0; x < 120; ++x)
+      for (int y = 0; y < 120; ++y) g.push_back({0.375 * x, 0.375 * y});
+    check_light_pass("grid 120x120, 3/8 apart", g, true);
   }
   {
     std::vector<Point2> p(40000);

@@ -947,13 +947,17 @@ class VulkanBackend final : public Backend {
     }
 
     // One class: a light first pass and a retry of the sites it hands on (star.comp's EXACT_PATH
-    // and RETRY); classes: every pass with the exact path.
+    // and RETRY); classes: every pass with the exact path. Integer inputs that are no small
+    // lattice take the full pass too: the filters leave the cocircular cells of nearly every
+    // site undecided, and the light pass would hand nearly all of them on (a 120 x 120 grid 100
+    // units apart hands on every site).
     const std::uint64_t classes = star_passes();
-    const bool light = classes == 1 && light_first_pass();
+    const bool lattice = exact_lattice_arithmetic(input.sites) && exact_lattice_search();
+    const bool light = classes == 1 && light_first_pass() && (lattice || !input.sites.integer_coordinates);
     auto star_spec = [&](bool exact_path, bool retry) {
-      return std::array<std::uint32_t, 8>{wg, star_capacity, loop_budget(true), apex_filters(),
-                                          exact_lattice_arithmetic(input.sites) && exact_lattice_search() ? 1u : 0u,
-                                          frame.quantile ? 1u : 0u, exact_path ? 1u : 0u, retry ? 1u : 0u};
+      return std::array<std::uint32_t, 8>{wg,           star_capacity, loop_budget(true), apex_filters(),
+                                          lattice ? 1u : 0u, frame.quantile ? 1u : 0u, exact_path ? 1u : 0u,
+                                          retry ? 1u : 0u};
     };
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
