@@ -2,17 +2,23 @@
 // (cuda_backend/star_walk.cuh) run site by site over the same grid, so no GPU is needed.
 // Counts, not times: predicates evaluated, cells + sites visited (mean, max, tail), and why
 // sites defer to the seam stage. One JSON line per (distribution, n, grid).
+// With --first-pass B (box searches), also what the kernel's light first pass (walk_star_boxes'
+// FirstPass) does with a budget of B: the sites it hands on to the second pass, for an undecided
+// candidate or for running past B, and its predicates.
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
-//                           [--search boxes,rings] [--budget N] [--threads 2] [-o FILE.jsonl]
-//                           [--note TEXT]
+//                           [--search boxes,rings] [--budget N] [--first-pass B] [--threads 2]
+//                           [-o FILE.jsonl] [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
 #include <thread>
+#include <vector>
 
 #include "expanse/generate.hpp"
 #include "star_host.hpp"
@@ -26,6 +32,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> grids{"quantile"};
   std::vector<std::string> searches{"boxes"};
   unsigned budget = 0;  // the kernel's default for each search
+  unsigned first_pass = 0;  // 0: not counted
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -36,6 +43,7 @@ int main(int argc, char** argv) {
   app.add_option("--search", searches, "boxes and/or rings (cuda_backend/star_scan.cuh)")->delimiter(',');
   app.add_option("--budget", budget, "work units after which a site defers (default: the kernel's)");
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
+  app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (2^10 in the kernel)");
   app.add_option("--threads", threads, "host threads walking the stars");
   CLI11_PARSE(app, argc, argv);
 
@@ -67,6 +75,30 @@ int main(int argc, char** argv) {
             {"deferred", t.deferred}, {"deferred_undecided", t.deferred_undecided},
             {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex},
             {"commit", bench::git_commit()}, {"date", bench::utc_now()}, {"machine", machine}, {"note", note}};
+        if (first_pass > 0 && kind == StarSearch::boxes) {
+          // Per host thread: handed on (undecided), run past the budget, predicates.
+          const unsigned parts = std::max(1u, threads);
+          std::vector<std::array<std::uint64_t, 3>> part(parts, {0, 0, 0});
+          const int count = static_cast<int>(sites.points.size());
+          auto walk_range = [&](unsigned p) {
+            std::array<int, expanse::detail::cuda::kStar> row{};
+            for (int i = int(std::int64_t(count) * p / parts); i < int(std::int64_t(count) * (p + 1) / parts); ++i) {
+              const auto w = layout.walk_site(i, row.data(), first_pass, true);
+              part[p][0] += w.handed_on;
+              part[p][1] += !w.ok && !w.handed_on && w.work > first_pass;
+              part[p][2] += w.predicates;
+            }
+          };
+          std::vector<std::thread> workers;
+          for (unsigned p = 1; p < parts; ++p) workers.emplace_back(walk_range, p);
+          walk_range(0);
+          for (auto& worker : workers) worker.join();
+          std::array<std::uint64_t, 3> sum{0, 0, 0};
+          for (const auto& q : part)
+            for (int k = 0; k < 3; ++k) sum[k] += q[k];
+          record["first_pass"] = {{"budget", first_pass}, {"handed_on", sum[0]}, {"over_budget", sum[1]},
+                                  {"predicates_per_site", double(sum[2]) / double(count)}};
+        }
         out << record.dump() << std::endl;
       }
     }
