@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "expanse/generate.hpp"
+#include "input/parallel.hpp"
 #include "star_host.hpp"
 #include "support.hpp"
 
@@ -76,23 +77,18 @@ int main(int argc, char** argv) {
             {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex},
             {"commit", bench::git_commit()}, {"date", bench::utc_now()}, {"machine", machine}, {"note", note}};
         if (first_pass > 0 && kind == StarSearch::boxes) {
-          // Per host thread: handed on (undecided), run past the budget, predicates.
-          const unsigned parts = std::max(1u, threads);
-          std::vector<std::array<std::uint64_t, 3>> part(parts, {0, 0, 0});
-          const int count = static_cast<int>(sites.points.size());
-          auto walk_range = [&](unsigned p) {
+          // Per chunk: handed on (undecided), run past the budget, predicates.
+          const std::size_t count = sites.points.size(), chunks = std::max(1u, threads);
+          std::vector<std::array<std::uint64_t, 3>> part(chunks, {0, 0, 0});
+          expanse::detail::parallel_chunks(count, chunks, [&](std::size_t c, std::size_t begin, std::size_t end) {
             std::array<int, expanse::detail::cuda::kStar> row{};
-            for (int i = int(std::int64_t(count) * p / parts); i < int(std::int64_t(count) * (p + 1) / parts); ++i) {
-              const auto w = layout.walk_site(i, row.data(), first_pass, true);
-              part[p][0] += w.handed_on;
-              part[p][1] += !w.ok && !w.handed_on && w.work > first_pass;
-              part[p][2] += w.predicates;
+            for (std::size_t i = begin; i < end; ++i) {
+              const auto w = layout.walk_site(static_cast<int>(i), row.data(), first_pass, true);
+              part[c][0] += w.handed_on;
+              part[c][1] += !w.ok && !w.handed_on && w.work > first_pass;
+              part[c][2] += w.predicates;
             }
-          };
-          std::vector<std::thread> workers;
-          for (unsigned p = 1; p < parts; ++p) workers.emplace_back(walk_range, p);
-          walk_range(0);
-          for (auto& worker : workers) worker.join();
+          });
           std::array<std::uint64_t, 3> sum{0, 0, 0};
           for (const auto& q : part)
             for (int k = 0; k < 3; ++k) sum[k] += q[k];

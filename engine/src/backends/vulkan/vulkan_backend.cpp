@@ -388,7 +388,7 @@ class VulkanBackend final : public Backend {
       const long k = std::atol(env);
       if (k >= 1 && k <= 16 && (k & (k - 1)) == 0) return std::uint64_t(k);
     }
-    return context_->physical().properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4 : 1;
+    return cpu_device() ? 4 : 1;
   }
   // In one class (GPUs), walk the stars in a light pass without the exact path and retry the
   // sites it hands on (star.comp's EXACT_PATH, RETRY). EXPANSE_VULKAN_LIGHT_PASS=0 walks them in
