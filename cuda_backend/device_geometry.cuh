@@ -353,10 +353,7 @@ EXPANSE_DEVICE bool circle_region(double2 a, double2 b, double2 c, CircleRegion*
   return true;
 }
 
-/// The circumcircle of a, b, c: centre (*ox, *oy) and a radius *rr with a proven margin *m (every
-/// rounding of the centre and radius covered). False when a, b, c are too nearly collinear to tell.
-EXPANSE_DEVICE bool circumcircle_with_margin(double2 a, double2 b, double2 c, double* ox_out, double* oy_out,
-                                             double* rr_out, double* m_out) {
+EXPANSE_DEVICE bool circumcircle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
   constexpr double eps = ex::epsilon;
   const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
   const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
@@ -398,18 +395,6 @@ EXPANSE_DEVICE bool circumcircle_with_margin(double2 a, double2 b, double2 c, do
   const double m = 2.0 * (eux + euy) + 8.0 * eps * (fabs(a.x) + fabs(a.y) + r) + 1e-300;
   const double rr = r + 2.0 * m;
   if (!isfinite(rr)) return false;
-  *ox_out = ox;
-  *oy_out = oy;
-  *rr_out = rr;
-  *m_out = m;
-  return true;
-}
-
-EXPANSE_DEVICE bool circumcircle_region(double2 a, double2 b, double2 c, CircleRegion* out) {
-  constexpr double eps = ex::epsilon;
-  double ox, oy, rr, m;
-  if (!circumcircle_with_margin(a, b, c, &ox, &oy, &rr, &m)) return false;
-  const double bx = b.x - a.x, by = b.y - a.y;
   double xl = fmin(a.x, b.x), xh = fmax(a.x, b.x), yl = fmin(a.y, b.y), yh = fmax(a.y, b.y);
   const double ex_x[4] = {ox + rr, ox - rr, ox, ox};
   const double ex_y[4] = {oy, oy, oy + rr, oy - rr};

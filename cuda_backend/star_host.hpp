@@ -15,7 +15,6 @@
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
 #include "star_grid.hpp"
-#include "star_local.cuh"
 #include "star_scan.cuh"
 
 namespace expanse::detail::cuda {
@@ -169,12 +168,6 @@ class HostStarLayout {
                         : walk_star_by<StarSearch::boxes, true, false>(grid_, pred_.data(), i, row, budget);
     return first_pass ? walk_star_by<StarSearch::boxes, false, true>(grid_, pred_.data(), i, row, budget)
                       : walk_star_by<StarSearch::boxes, false, false>(grid_, pred_.data(), i, row, budget);
-  }
-
-  /// Site i's star as the local pass builds it (star_local.cuh), into `row`.
-  StarWalk local_site(int i, int* row, unsigned budget) const {
-    int ids[kLocalStar];
-    return local_star(grid_, pred_.data(), i, ids, 1, row, budget);
   }
 
   /// The triangles the emit kernel would write after walk_all(), in site ids.

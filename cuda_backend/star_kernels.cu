@@ -24,7 +24,6 @@
 #include "input/parallel.hpp"
 #include "bucket_kernels.cuh"
 #include "star_grid.hpp"
-#include "star_local.cuh"
 #include "star_scan.cuh"
 
 namespace expanse::detail::cuda {
@@ -80,48 +79,13 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   owned[i] = owned_triangles(star, inf, i);
 }
 
-/// The sum of the warp's predicate counts, added once a warp.
-__device__ __forceinline__ void count_predicates(unsigned int* counters, unsigned predicates) {
-  const unsigned active = __activemask();
-  const unsigned warp_total = __reduce_add_sync(active, predicates);
-  if ((threadIdx.x & 31) == __ffs(active) - 1)
-    atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
-}
-
-/// The pass before the walks: every site's star built from the cells around it (star_local.cuh),
-/// a thread a site, the star held in a column of shared memory while it is built. Sites it does
-/// not finish are listed (counters[8] of them) for the walks.
-template <int MinBlocks>
-__global__ void __launch_bounds__(128, MinBlocks) local_star_kernel(GridView g, const int* pred, int n, int* star,
-                                                                    std::uint32_t* info, int* owned,
-                                                                    unsigned int* counters, unsigned budget,
-                                                                    int* handed_on) {
-  __shared__ int ids[kLocalStar * 128];
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const StarWalk w =
-      local_star(g, pred, i, ids + threadIdx.x, 128, star + static_cast<std::size_t>(i) * kStar, budget);
-  count_predicates(counters, w.predicates);
-  if (!w.ok) {
-    info[i] = kDeferredBit;
-    owned[i] = 0;
-    handed_on[atomicAdd(counters + 8, 1u)] = i;
-    return;
-  }
-  const std::uint32_t inf = star_info(w);
-  info[i] = inf;
-  owned[i] = owned_triangles(star, inf, i);
-}
-
-/// `listed`: walk only the first *listed sites of `order` (the local pass's hand-ons).
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
-                                                              const int* order, WalkPass pass, int* retry_list,
-                                                              const unsigned* listed = nullptr) {
+                                                              const int* order, WalkPass pass, int* retry_list) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
-  if (t >= n || (listed && t >= static_cast<int>(*listed))) return;
+  if (t >= n) return;
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
@@ -327,7 +291,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  DeviceArray<unsigned int> d_counters(9, stream);
+  DeviceArray<unsigned int> d_counters(8, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -404,24 +368,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const int retry_blocks = 8 * ctx.multiprocessors;
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
-  // The local pass (star_local.cuh) builds the stars it can before the walks, which then walk
-  // only the sites it lists. Not for integer inputs: their cocircular cells leave the filters
-  // undecided at nearly every site, and the walks decide those exactly in the scan (lattices) or
-  // with the exact path. EXPANSE_CUDA_LOCAL_PASS=0 leaves every site to the walks, for
-  // comparisons; EXPANSE_CUDA_LOCAL_BUDGET sets its work budget (row segments and sites).
-  const char* local_env = std::getenv("EXPANSE_CUDA_LOCAL_PASS");
-  const bool local_pass = !rings && !input.sites.integer_coordinates && !(local_env && std::strcmp(local_env, "0") == 0);
-  const char* local_budget_env = std::getenv("EXPANSE_CUDA_LOCAL_BUDGET");
-  const unsigned local_budget = local_budget_env ? static_cast<unsigned>(std::strtoul(local_budget_env, nullptr, 10)) : 256u;
-  DeviceArray<int> d_local_list(local_pass ? n : 0, stream);
-  const int* walk_order = local_pass ? d_local_list.get() : order;
-  const unsigned* walk_listed = local_pass ? d_counters.get() + 8 : nullptr;
-  if (local_pass) {
-    local_star_kernel<8><<<blocks_for(n, 128), 128, 0, stream>>>(g, d_pred.get(), static_cast<int>(n), d_star.get(),
-                                                               d_info.get(), d_owned.get(), d_counters.get(),
-                                                               local_budget, d_local_list.get());
-    EXPANSE_CUDA(cudaGetLastError());
-  }
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
@@ -434,11 +380,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (two_passes && !first_full)
         star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, walk_order, pass, d_retry.get(), walk_listed);
+            pass_budget, order, pass, d_retry.get());
       else
         star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, walk_order, pass, d_retry.get(), walk_listed);
+            pass_budget, order, pass, d_retry.get());
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());

@@ -174,67 +174,6 @@ TEST_CASE("CUDA star walk on the CPU: the first pass's light walk makes the full
   }
 }
 
-TEST_CASE("CUDA local star pass on the CPU: a star it finishes is the walk's, and it finishes most", "[cuda][star]") {
-  // The pass before the walks builds each star by inserting the sites of the cells around it
-  // (star_local.cuh). A site it finishes must have the full walk's star, the same neighbours in
-  // the same counter-clockwise order; the rest (hull sites, undecided tests, the budget spent)
-  // are handed on to the walks.
-  namespace p = test::points;
-  const std::vector<Family> families = {
-      {"uniform", p::uniform, 20000, 0, 0},
-      {"gaussian", p::gaussian, 20000, 0, 0},
-      {"kuzmin", p::kuzmin, 20000, 0, 0},
-      {"clusters", p::clusters, 20000, 0, 0},
-      {"rotated_grid_float", p::rotated_grid_float, 4000, 0, 0},
-      {"lattice_circle", p::lattice_circle, 2000, 0, 0},
-      {"thin_circle", p::thin_circle, 2000, 0, 0},
-      {"grid", p::grid, 10000, 0, 0},
-      {"duplicates", p::duplicates, 6000, 0, 0},
-      {"square_boundary", p::square_boundary, 2000, 0, 0},
-      {"cross", p::cross, 2000, 0, 0},
-  };
-  for (const Family& family : families) {
-    for (const bool quantile : {true, false}) {
-      DYNAMIC_SECTION(family.name << (quantile ? " quantile" : " uniform")) {
-        const SiteSet sites = prepare_sites(family.make(family.n, 5));
-        const cuda::HostStarLayout layout(sites, convex_hull(sites), 2.0, quantile);
-        const unsigned full_budget = cuda::default_budget(cuda::StarSearch::boxes);
-        std::size_t finished = 0;
-        for (int i = 0; i < static_cast<int>(sites.points.size()); ++i) {
-          std::array<int, cuda::kStar> full_row{}, local_row{};
-          full_row.fill(-1);
-          local_row.fill(-1);
-          const cuda::StarWalk local = layout.local_site(i, local_row.data(), 256);
-          INFO(family.name << ": site " << i);
-          if (!local.ok) {
-            REQUIRE(local.handed_on);
-            continue;
-          }
-          ++finished;
-          const cuda::StarWalk full = layout.walk_site(i, full_row.data(), full_budget, false);
-          if (!full.ok) continue;  // the walk defers what the filters cannot decide; this pass did
-          REQUIRE(full.closed);
-          REQUIRE(local.closed);
-          REQUIRE(local.ccw == full.ccw + full.cw);
-          // The same cycle: the local star rotated to start at the walk's first neighbour.
-          const auto start = std::find(local_row.begin(), local_row.begin() + local.ccw, full_row[0]);
-          REQUIRE(start != local_row.begin() + local.ccw);
-          std::rotate(local_row.begin(), start, local_row.begin() + local.ccw);
-          REQUIRE(local_row == full_row);
-        }
-        INFO(family.name << (quantile ? " quantile: " : " uniform: ") << finished << " of " << sites.points.size()
-                         << " finished");
-        // Where the cells suit the input (kuzmin's core needs quantile cells), nearly every site
-        // off the hull is finished here.
-        const bool general = family.name == "uniform" || family.name == "gaussian" || family.name == "duplicates" ||
-                             (family.name == "kuzmin" && quantile);
-        if (general) CHECK(finished > sites.points.size() * 9 / 10);
-        if (family.name == "grid") CHECK(finished == 0);  // cocircular everywhere: the filters cannot tell
-      }
-    }
-  }
-}
-
 TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overflow nor run away", "[cuda][star]") {
   // Sites on the flat hull sides of a uniform set fan out to many long, nearly flat triangles.
   // With 16-neighbour star rows one of these 20000 sites deferred (full row), which sends the
