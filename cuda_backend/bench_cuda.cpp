@@ -1,7 +1,10 @@
 // CUDA backend benchmark: one JSON object per (distribution, n) on stdout.
 //
 //   expanse_bench_cuda [--sizes 512,1024,2048,4096] [--dists uniform,gaussian,grid,kuzmin]
-//                      [--reps 5] [--no-pipeline] [--paper] [--sites-per-bucket X]
+//                      [--reps 5] [--no-pipeline] [--paper] [--sites-per-bucket X] [--scale F]
+//
+// --scale F multiplies every generated coordinate by F (rounded): the integer grid times 0.1 is
+// a decimal grid, whose squares are cocircular up to rounding, not exactly (recorded as "scale").
 //
 // Sizes are sides: n = side^2 points. Times are medians after one warm-up run:
 //   host_to_host_ms  expanse::triangulate(): std::vector points -> Mesh (triangles + neighbours)
@@ -157,6 +160,7 @@ int main(int argc, char** argv) {
   bool paper = false;
   bool transfers = false;
   double sites_per_bucket = 0.0;  // 0: the layout's default
+  double scale = 1.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) sizes = split(argv[++i]);
@@ -166,10 +170,11 @@ int main(int argc, char** argv) {
     else if (a == "--paper") paper = true;
     else if (a == "--transfers") transfers = true;
     else if (a == "--sites-per-bucket" && i + 1 < argc) sites_per_bucket = std::atof(argv[++i]);
+    else if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
     else {
       std::fprintf(stderr,
                    "usage: %s [--sizes 512,1024] [--dists uniform,grid] [--reps N] [--no-pipeline] [--paper] "
-                   "[--sites-per-bucket X] | --transfers\n",
+                   "[--sites-per-bucket X] [--scale F] | --transfers\n",
                    argv[0]);
       return 2;
     }
@@ -188,7 +193,9 @@ int main(int argc, char** argv) {
     for (const auto& side_text : sizes) {
       const std::size_t side = std::stoul(side_text);
       const std::size_t n = side * side;
-      const std::vector<Point2> points = generate_points(dist, n, 42);
+      std::vector<Point2> points = generate_points(dist, n, 42);
+      if (scale != 1.0)
+        for (Point2& p : points) p = {p.x * scale, p.y * scale};
       const double t0 = now_ms();
       SiteSet sites = prepare_sites(points);
       const double t1 = now_ms();
@@ -262,6 +269,7 @@ int main(int argc, char** argv) {
                   "\"n\":%zu,\"sites\":%zu,\"hull\":%zu,\"reps\":%d,",
                   backend->device_name().c_str(), paper ? "paper" : "per_site", layout.sites_per_bucket, dist.c_str(),
                   side, n, sites.points.size(), hull.sites.size(), reps);
+      if (scale != 1.0) std::printf("\"scale\":%g,", scale);
       if (!error.empty()) {
         std::string escaped;
         for (char c : error) escaped += (c == '"' || c == '\\') ? ' ' : c;
