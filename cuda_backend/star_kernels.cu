@@ -37,10 +37,14 @@ namespace {
 /// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
+/// `retry_list` (counters[7] long) takes a first pass's sites that ran past its budget, for the
+/// warps; `undecided_list` (counters[8]) a light first pass's sites that met a candidate only the
+/// exact path decides, for a thread each (star_list_kernel).
 template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
-                                                unsigned budget, WalkPass pass, int* retry_list) {
+                                                unsigned budget, WalkPass pass, int* retry_list,
+                                                int* undecided_list = nullptr) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
@@ -67,7 +71,10 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     info[i] = kDeferredBit;
     owned[i] = 0;
     if (walked_again) {
-      retry_list[atomicAdd(counters + 7, 1u)] = i;
+      if (undecided_list && w.handed_on && cells <= budget)
+        undecided_list[atomicAdd(counters + 8, 1u)] = i;
+      else
+        retry_list[atomicAdd(counters + 7, 1u)] = i;
       return;
     }
     if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
@@ -83,14 +90,31 @@ template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool Firs
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
-                                                              const int* order, WalkPass pass, int* retry_list) {
+                                                              const int* order, WalkPass pass, int* retry_list,
+                                                              int* undecided_list) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= n) return;
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
   walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, i, star, info, owned, counters,
-                                                                         budget, pass, retry_list);
+                                                                         budget, pass, retry_list, undecided_list);
+}
+
+/// The light first pass's undecided sites (counters[8] of them), a thread each, walked in full
+/// (with the exact path) under the first pass's budget; those that run past it go on to the
+/// warps. Nearly cocircular float inputs (decimal grids) send nearly every site here: a warp each
+/// they took 115 ms at 1024^2 (H100, session 12 call 3). Grid-stride, so that a short list (a
+/// uniform input's, usually empty) costs one small launch.
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
+__global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, const int* pred, int* star,
+                                                                   std::uint32_t* info, int* owned,
+                                                                   unsigned int* counters, unsigned budget,
+                                                                   const int* undecided_list, int* retry_list) {
+  const unsigned count = counters[8];
+  for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < count; k += gridDim.x * blockDim.x)
+    walk_and_record<Search, Walker::thread, ExactLattice>(g, pred, undecided_list[k], star, info, owned, counters,
+                                                          budget, WalkPass::first, retry_list);
 }
 
 /// The second pass: the sites the first listed (counters[7] of them), with the full budget, each
@@ -248,9 +272,10 @@ unsigned box_search_budget(std::size_t sites) {
   return sites <= (std::size_t{1} << 20) ? 1u << 13 : default_budget(StarSearch::boxes);
 }
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
-/// predecessor, owned, offset, retry; the star row; triangles and neighbours (about 2 a site).
+/// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
+/// a site).
 std::size_t per_site_bytes() {
-  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 5 * sizeof(int) + kStar * sizeof(int) +
+  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 6 * sizeof(int) + kStar * sizeof(int) +
          2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
@@ -291,7 +316,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  DeviceArray<unsigned int> d_counters(8, stream);
+  DeviceArray<unsigned int> d_counters(9, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -366,25 +391,30 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const bool first_full = (first_walk_env && std::strcmp(first_walk_env, "full") == 0) ||
                           (input.sites.integer_coordinates && !exact_lattice);
   const int retry_blocks = 8 * ctx.multiprocessors;
+  DeviceArray<int> d_undecided(two_passes && !first_full ? n : 0, stream);
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
-        order, WalkPass::only, nullptr);
+        order, WalkPass::only, nullptr, nullptr);
   } else {
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
-      if (two_passes && !first_full)
+      if (two_passes && !first_full) {
         star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get());
-      else
+            pass_budget, order, pass, d_retry.get(), d_undecided.get());
+        star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
+            d_undecided.get(), d_retry.get());
+      } else {
         star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get());
+            pass_budget, order, pass, d_retry.get(), nullptr);
+      }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());

@@ -291,6 +291,36 @@ TEST_CASE("the exactness certificate decides integer inputs and is never wrong",
   CHECK(exact::orient2d_certified(0x1p-600, 0, 0, 0x1p-600, 0, 0) == exact::uncertain);
 }
 
+TEST_CASE("incircle from exact differences matches the rationals, and declines inexact differences", "[exact]") {
+  long decided = 0, total = 0;
+  for (int family = 0; family < 4; ++family)
+    for (int i = 0; i < 3000; ++i) {
+      double p[8];
+      adversarial_incircle(family, p);
+      const double scale = std::ldexp(1.0, integer(-150, 150));
+      for (double& v : p) v *= scale;
+      const int sign = exact::incircle_exact_differences(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]);
+      ++total;
+      if (sign == exact::uncertain) continue;
+      ++decided;
+      REQUIRE(sign == reference_incircle(p));
+    }
+  CHECK(decided > 0);
+  // Decimal grids: four sites of a square of a grid with step 0.1, nearly (not exactly)
+  // cocircular once rounded, all within one binade: always decided, and right.
+  long grid_decided = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const int x = integer(1000, 2000), y = integer(1000, 2000), w = integer(1, 3);
+    double p[8] = {0.1 * x, 0.1 * y, 0.1 * (x + w), 0.1 * y, 0.1 * (x + w), 0.1 * (y + w), 0.1 * x, 0.1 * (y + w)};
+    const int sign = exact::incircle_exact_differences(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]);
+    grid_decided += sign != exact::uncertain;
+    if (sign != exact::uncertain) REQUIRE(sign == reference_incircle(p));
+  }
+  CHECK(grid_decided == 3000);
+  // A difference that rounds: declined, not guessed.
+  CHECK(exact::incircle_exact_differences(1.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0x1p-60, 0.0) == exact::uncertain);
+}
+
 TEST_CASE("expansion evaluation matches the rationals in the safe range", "[exact]") {
   for (int family = 0; family < 4; ++family)
     for (int i = 0; i < 2000; ++i) {

@@ -447,6 +447,33 @@ EXPANSE_HD inline int orient2d_expansion(double ax, double ay, double bx, double
   return (acx * bcy - acy * bcx).sign();
 }
 
+/// incircle's exact sign where the six coordinate differences against d are exact (their
+/// error-free remainders zero), or `uncertain` where one is not (or a coordinate is outside the
+/// safe range). Each difference is then one double, so the determinant's expansions stay small
+/// (at most 4 terms per 2 x 2 minor and per lift, 32 per product, 96 in all: about 2 KB, where
+/// incircle_expansion needs ~40 KB), small enough for a device thread's exact path. Nearby sites
+/// of one magnitude always qualify (Sterbenz: y / 2 <= x <= 2 y makes x - y exact), so decimal
+/// grids and other nearly cocircular float inputs are decided here; only differences across a
+/// coordinate's sign change or binade boundary near zero may not be.
+EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx, double by, double cx,
+                                                 double cy, double dx, double dy) {
+  if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
+        in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
+    return uncertain;
+  double e0, e1, e2, e3, e4, e5;
+  const double adx = two_diff(ax, dx, e0), ady = two_diff(ay, dy, e1);
+  const double bdx = two_diff(bx, dx, e2), bdy = two_diff(by, dy, e3);
+  const double cdx = two_diff(cx, dx, e4), cdy = two_diff(cy, dy, e5);
+  if (!((e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0))) return uncertain;
+  const Expansion<4> bc = exact_product(bdx, cdy) - exact_product(cdx, bdy);
+  const Expansion<4> ca = exact_product(cdx, ady) - exact_product(adx, cdy);
+  const Expansion<4> ab = exact_product(adx, bdy) - exact_product(bdx, ady);
+  const Expansion<4> alift = exact_product(adx, adx) + exact_product(ady, ady);
+  const Expansion<4> blift = exact_product(bdx, bdx) + exact_product(bdy, bdy);
+  const Expansion<4> clift = exact_product(cdx, cdx) + exact_product(cdy, cdy);
+  return (alift * bc + blift * ca + clift * ab).sign();
+}
+
 /// Needs ~40 KB of stack: fine on the host, a last resort on devices.
 EXPANSE_HD inline int incircle_expansion(double ax, double ay, double bx, double by, double cx,
                                          double cy, double dx, double dy) {

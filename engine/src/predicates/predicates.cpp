@@ -55,6 +55,8 @@ int incircle_exact(const Point2& a, const Point2& b, const Point2& c, const Poin
   if (!all_in_safe_range({&a, &b, &c, &d})) return incircle_rational(a, b, c, d);
   const int certified = exact::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (certified != exact::uncertain) return certified;
+  const int small = exact::incircle_exact_differences(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (small != exact::uncertain) return small;
   return exact::incircle_expansion(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
 }
 
