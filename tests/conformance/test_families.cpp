@@ -45,6 +45,7 @@ FAMILY_CASE("kuzmin")
 FAMILY_CASE("grid")
 FAMILY_CASE("rotated_grid_exact")
 FAMILY_CASE("rotated_grid_float")
+FAMILY_CASE("decimal_grid")
 FAMILY_CASE("lattice_circle")
 FAMILY_CASE("collinear_plus_one")
 FAMILY_CASE("duplicates")
@@ -64,7 +65,7 @@ FAMILY_CASE("mixed_scale")
 
 TEST_CASE("every test family is run", "[family]") {
   // A family added to test_points.cpp without a FAMILY_CASE above would silently go untested.
-  CHECK(test::families().size() == 23);
+  CHECK(test::families().size() == 24);
 }
 
 TEST_CASE("matches CGAL with the paper's layout", "[family][paper]") {

@@ -191,6 +191,13 @@ int main(int argc, char** argv) {
       }
     }
     grow_case(*backend, "grid", square_grid(256), layout, false, true);
+    // Nearly cocircular floats: every square's incircle is left to the exact path, which decides
+    // it from exact coordinate differences (incircle_exact_differences); none may defer.
+    if (layout.seeding != Layout::Seeding::paper_blocks) {
+      std::vector<Point2> decimal = square_grid(200);
+      for (Point2& q : decimal) q = {10.0 + 0.1 * q.x, 10.0 + 0.1 * q.y};
+      grow_case(*backend, "decimal grid", decimal, layout, false, true);
+    }
     grow_case(*backend, "uniform", generate_points("uniform", 200000, 3), layout, false, false);
     grow_case(*backend, "kuzmin", generate_points("kuzmin", 200000, 4), layout, false, false);
   }

@@ -98,6 +98,12 @@ std::vector<Point2> rotated_grid_exact(std::size_t n, std::uint64_t seed) {
   return p;
 }
 
+std::vector<Point2> decimal_grid(std::size_t n, std::uint64_t seed) {
+  auto p = integer_grid(n, seed);
+  for (auto& q : p) q = {10.0 + 0.1 * q.x, 10.0 + 0.1 * q.y};
+  return p;
+}
+
 std::vector<Point2> rotated_grid_float(std::size_t n, std::uint64_t seed) {
   auto p = integer_grid(n, seed);
   const double c = std::sqrt(3.0) / 2.0, s = 0.5;
@@ -274,6 +280,7 @@ const std::vector<Family>& families() {
       {"grid", points::grid, 100000},
       {"rotated_grid_exact", points::rotated_grid_exact, 10000},
       {"rotated_grid_float", points::rotated_grid_float, 10000},
+      {"decimal_grid", points::decimal_grid, 10000},
       {"lattice_circle", points::lattice_circle, 2917},
       {"collinear_plus_one", points::collinear_plus_one, 10000},
       {"duplicates", points::duplicates, 100000},

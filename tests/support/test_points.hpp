@@ -44,6 +44,9 @@ std::vector<Point2> grid(std::size_t n, std::uint64_t seed);
 /// The integer grid rotated exactly by atan(4/3): (3x - 4y, 4x + 3y), still integer,
 /// every cocircular quadruple of the grid kept.
 std::vector<Point2> rotated_grid_exact(std::size_t n, std::uint64_t seed);
+/// The integer grid with step 0.1 from (10, 10): its squares are cocircular only up to the
+/// rounding of 0.1 i, so the filters cannot decide them and the exact value is tiny, not zero.
+std::vector<Point2> decimal_grid(std::size_t n, std::uint64_t seed);
 /// The integer grid rotated by 30 degrees in floating point: nearly cocircular everywhere.
 std::vector<Point2> rotated_grid_float(std::size_t n, std::uint64_t seed);
 /// Every integer point on x^2 + y^2 = R^2 plus the centre, R the smallest product

@@ -102,6 +102,10 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
       {"grid", p::grid, 10000, 0.001, 0.001},
       {"rotated_grid_exact", p::rotated_grid_exact, 4000, 0.002, 0.002},
       {"rotated_grid_float", p::rotated_grid_float, 4000, 1.0, 1.0},
+      // Nearly cocircular, every coordinate difference exact: decided by the exact path
+      // (incircle_exact_differences); only a star too large for its row defers (the partial
+      // last row's fan).
+      {"decimal_grid", p::decimal_grid, 4000, 0.001, 0.001},
       {"lattice_circle", p::lattice_circle, 2000, 1.0, 1.0},
       {"duplicates", p::duplicates, 6000, 0.001, 0.001},
       {"offset", p::offset, 3000, 0.01, 0.5},
