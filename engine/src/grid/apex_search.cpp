@@ -98,7 +98,11 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
   constexpr double inf = std::numeric_limits<double>::infinity();
   const Region everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
   double ux, uy, ux_error, uy_error;
-  if (den - den_error > 0 && std::isfinite(den)) {
+  // The rounded determinant only where its relative error is tiny: the centre's error is that
+  // relative error times the radius, and a sliver's radius is many times the domain (a rotated
+  // float grid's nearly collinear rows: searches of the whole domain, 95% of the seam's
+  // candidates). Elsewhere the exact path below, whose error is a few ulps of the radius.
+  if (den > 1e9 * den_error && std::isfinite(den)) {
     ux = (ey * d2 - dy * e2) / den;
     uy = (dx * e2 - ex * d2) / den;
     ux_error = (16 * eps * (std::fabs(ey) * d2 + std::fabs(dy) * e2) + std::fabs(ux) * den_error) / (den - den_error) +
@@ -240,7 +244,8 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       }
     }
     if (!improved) return;
-    if (best_error < 1e-3 * (1 + std::fabs(best_lambda))) {
+    // λ's centre only where its relative error is below 1e-9 (see left_region_box).
+    if (best_error < 1e-9 * (1 + std::fabs(best_lambda))) {
       const double ux = 0.5 * dx - best_lambda * dy, uy = 0.5 * dy + best_lambda * dx;
       const double ux_error = best_error * std::fabs(dy) + 8 * eps * (std::fabs(dx) + std::fabs(best_lambda * dy));
       const double uy_error = best_error * std::fabs(dx) + 8 * eps * (std::fabs(dy) + std::fabs(best_lambda * dx));
