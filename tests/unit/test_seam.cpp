@@ -2,11 +2,14 @@
 // deleted, strips along a block grid (what the paper's layout leaves open), random triangles.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "expanse/error.hpp"
 #include "expanse/generate.hpp"
+#include "grid/apex_search.hpp"
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
@@ -237,4 +240,32 @@ TEST_CASE("seam stage refuses a listed open link that is linked", "[seam]") {
   } catch (const Error& e) {
     CHECK(e.code() == ErrorCode::internal);
   }
+}
+
+TEST_CASE("apex searches around slivers stay local and exact (rotated float grid)", "[seam]") {
+  // The 3-4-5 grid times 0.1: rounding leaves its rows a hair off straight, so the Delaunay mesh
+  // is full of slivers whose circles are 10^10 times the domain. Every interior edge's apex
+  // (CGAL's other triangle) must be found, each search testing a small part of the sites: a
+  // sliver's circle taken from the rounded determinant once sent searches over every site.
+  std::vector<Point2> points = generate_points("rotated_grid", 40000, 11);
+  for (Point2& p : points) p = {0.1 * p.x, 0.1 * p.y};
+  const SiteSet sites = prepare_sites(points);
+  const Hull hull = convex_hull(sites);
+  std::vector<std::int32_t> site_of(points.size(), -1);
+  for (std::int32_t s = 0; s < sites.size(); ++s) site_of[sites.input_index[s]] = s;
+  std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> apex_of;  // CGAL: a->b has apex c on its left
+  for (const Triangle& t : test::cgal_delaunay(points).triangles)
+    for (int k = 0; k < 3; ++k) apex_of[{site_of[t[k]], site_of[t[(k + 1) % 3]]}] = site_of[t[(k + 2) % 3]];
+  const BucketTree tree = BucketTree::on_demand(sites);
+  ApexSearch search(sites, tree);
+  std::uint64_t most = 0, searches = 0;
+  for (const auto& [edge, apex] : apex_of) {
+    const std::uint64_t before = search.candidates_tested();
+    REQUIRE(search.apex(edge.first, edge.second) == apex);
+    most = std::max(most, search.candidates_tested() - before);
+    ++searches;
+  }
+  INFO("most candidates in one search: " << most << ", mean " << search.candidates_tested() / searches);
+  CHECK(most < static_cast<std::uint64_t>(sites.size()) / 20);
+  CHECK(search.candidates_tested() < 40 * searches);
 }

@@ -88,6 +88,27 @@ bool ApexSearch::entirely_right(const QuantBox& box, const Point2& a, const Poin
   return cross < -tolerance;
 }
 
+bool ApexSearch::outside_lifted_circle(const QuantBox& box, const Point2& a, const exact::ApexLift& c) const {
+  // In a's frame p lies inside circle(a, b, c) exactly when g(P) = Px Vx + Py Vy - |P|^2 K > 0
+  // (apex_filter.hpp; K > 0, c being left of a->b). Over the box, g is at most the largest
+  // value of its linear part (at a corner) less K times the least |P|^2. A sliver's circle,
+  // whose radius may be 10^10 times the domain and whose centre is then known to no better than
+  // the domain's width, is nearly a line here: this keeps the nodes beyond it out of the search.
+  const double q = tree_.quantum();
+  const double x0 = tree_.real_x(static_cast<double>(box.x0)) - q - a.x;
+  const double x1 = tree_.real_x(static_cast<double>(box.x1) + 1) + q - a.x;
+  const double y0 = tree_.real_y(static_cast<double>(box.y0)) - q - a.y;
+  const double y1 = tree_.real_y(static_cast<double>(box.y1) + 1) + q - a.y;
+  const double linear = std::max(c.vx * x0, c.vx * x1) + std::max(c.vy * y0, c.vy * y1);
+  const double nx = std::max({x0, 0.0, -x1}), ny = std::max({y0, 0.0, -y1});
+  const double mx = std::max(std::fabs(x0), std::fabs(x1)), my = std::max(std::fabs(y0), std::fabs(y1));
+  const double upper = linear - std::max(c.k, 0.0) * (nx * nx + ny * ny);  // K > 0 exactly
+  // The lift's rounding (apex_filter.hpp bounds it by 10 eps of the permanent), the corners'
+  // subtraction of a, and this evaluation: far inside 1e-12 of the permanent over the box.
+  const double permanent = mx * c.vx_perm + my * c.vy_perm + (mx * mx + my * my) * c.k_perm;
+  return std::isfinite(upper) && std::isfinite(permanent) && upper < -(1e-12 * permanent + 1e-300);
+}
+
 ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b, const Point2& c) const {
   // Circumcentre relative to a, with a forward error bound on each quantity: the box must hold
   // circle(a, b, c) ∩ left half-plane however the rounding fell.
@@ -201,6 +222,8 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
   // flops; only comparisons the bound cannot separate go to the exact perturbed incircle.
   const double dx = b.x - a.x, dy = b.y - a.y;
   double best_lambda = 0, best_error = inf;
+  exact::ApexLift best_lift{};  // valid once best >= 0
+  const exact::ApexEdge edge = exact::apex_edge(a.x, a.y, b.x, b.y);
   const auto scan = [&](const BucketTree::Node& bucket) {
     bool improved = false;
     for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
@@ -244,6 +267,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
       }
     }
     if (!improved) return;
+    best_lift = exact::apex_lift(edge, exact::apex_point(edge, best_point.x, best_point.y));
     // λ's centre only where its relative error is below 1e-9 (see left_region_box).
     if (best_error < 1e-9 * (1 + std::fabs(best_lambda))) {
       const double ux = 0.5 * dx - best_lambda * dy, uy = 0.5 * dy + best_lambda * dx;
@@ -297,6 +321,7 @@ std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
         continue;
       }
       if (outside_circle(box, region) || entirely_right(box, a, b)) continue;
+      if (best >= 0 && outside_lifted_circle(box, a, best_lift)) continue;
       // Children nearest the midpoint last, so they are popped first.
       const std::int32_t first = tree_.children(index);
       const std::uint32_t mid = node.size / 2;

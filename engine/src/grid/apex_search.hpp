@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "grid/bucket_tree.hpp"
+#include "predicates/apex_filter.hpp"
 #include "input/site_set.hpp"
 
 namespace expanse::detail {
@@ -41,6 +42,9 @@ class ApexSearch {
   Region left_region_box(const Point2& a, const Point2& b, const Point2& c) const;
   QuantBox square_around(std::uint32_t qx, std::uint32_t qy, std::uint64_t half) const;
   bool entirely_right(const QuantBox& box, const Point2& a, const Point2& b) const;
+  /// True when no point of the box lies inside circle(a, b, c), c's lift given: the test of
+  /// outside_circle without the circle's centre, which a sliver's huge radius makes useless.
+  bool outside_lifted_circle(const QuantBox& box, const Point2& a, const exact::ApexLift& c) const;
 
   const SiteSet& sites_;
   const BucketTree& tree_;
