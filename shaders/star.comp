@@ -56,6 +56,12 @@ layout(constant_id = 5) const bool QUANTILE_CELLS = false;
 // same deferrals). Classes (CPU devices) keep the exact path in every pass.
 layout(constant_id = 6) const bool EXACT_PATH = true;
 layout(constant_id = 7) const bool RETRY = false;
+// The exact path also tries incircle_exact_differences (predicates.glsl), which decides nearly
+// cocircular float inputs (decimal grids) that the certificate leaves to the seam stage. Only in
+// the GPU's retry dispatch: inlined into a pass that every site takes, its expansion would cost
+// that pass registers (lavapipe's classes leave such sites to the seam stage, which is the CPU
+// there anyway).
+layout(constant_id = 8) const bool EXACT_DIFFERENCES = false;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -505,12 +511,19 @@ void main() {
       double e_new = squared_distance_certified(p, ps, ok);
       double e_old = squared_distance_certified(best_p, ps, ok);
       verdict = !ok ? 2 : (e_new < e_old ? 1 : 0);
+      if (!ok && EXACT_DIFFERENCES) {
+        int cmp = compare_distance_exact_differences(ps, p, best_p);
+        verdict = cmp == UNCERTAIN ? 2 : (cmp < 0 ? 1 : 0);
+      }
     } else {
       int o = orient2d_device(pa, pb, p);
+      if (o == UNCERTAIN && EXACT_DIFFERENCES) o = orient2d_exact_differences(pa, pb, p);
       if (o == UNCERTAIN) {
         verdict = 2;
       } else if (o > 0) {
-        int sign = best < 0 ? 1 : incircle_perturbed_device(pa, pb, best_p, p);
+        int sign = best < 0                ? 1
+                   : EXACT_DIFFERENCES ? incircle_perturbed_exact_differences(pa, pb, best_p, p)
+                                       : incircle_perturbed_device(pa, pb, best_p, p);
         verdict = sign == UNCERTAIN ? 2 : (sign > 0 ? 1 : 0);
       }
     }

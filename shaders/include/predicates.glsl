@@ -179,6 +179,112 @@ int incircle_certified(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   return int(det > 0.0lf) - int(det < 0.0lf);
 }
 
+// Exact signs of small sums of exact products, as an expansion: h[0 .. len) in increasing
+// magnitude, non-overlapping, no zeros. EXPANSION_GROW(x) adds x in place (Shewchuk's
+// GROW-EXPANSION-ZEROELIM), setting `fits` false when the result would not fit. A macro, not a
+// function: GLSL copies an `inout` array in and out on every call (on lavapipe that copying was
+// most of the time).
+const int EXACT_TERMS = 40;  // a non-overlapping expansion within the safe range needs < 40
+#define EXPANSION_GROW(x)                                 \
+  {                                                       \
+    precise double q_ = (x);                              \
+    int out_ = 0;                                         \
+    for (int i_ = 0; i_ < len; ++i_) {                    \
+      double e_;                                          \
+      precise double sum_ = two_sum(q_, h[i_], e_);       \
+      q_ = sum_;                                          \
+      if (e_ != 0.0lf) h[out_++] = e_;                    \
+    }                                                     \
+    if (q_ != 0.0lf || out_ == 0) {                       \
+      if (out_ == EXACT_TERMS) fits = false;              \
+      else h[out_++] = q_;                                \
+    }                                                     \
+    len = out_;                                           \
+  }
+
+// The sign of the expansion h[0 .. len): that of its largest term.
+int expansion_sign(double top) { return int(top > 0.0lf) - int(top < 0.0lf); }
+
+// incircle's exact sign where the six coordinate differences against d are exact, else
+// UNCERTAIN: exact_arith.hpp's incircle_exact_differences, the determinant summed term by term
+// (its 96 exact products) into one expansion of at most EXACT_TERMS doubles instead of
+// multiplied out in expansions. Decimal grids and other nearly cocircular float inputs: nearby
+// sites of one magnitude have exact differences (Sterbenz).
+int incircle_exact_differences(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
+  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
+  bool ok = true;
+  precise dvec2 ad = dvec2(cdiff(a.x, d.x, ok), cdiff(a.y, d.y, ok));
+  precise dvec2 bd = dvec2(cdiff(b.x, d.x, ok), cdiff(b.y, d.y, ok));
+  precise dvec2 cd = dvec2(cdiff(c.x, d.x, ok), cdiff(c.y, d.y, ok));
+  if (!ok) return UNCERTAIN;
+  double h[EXACT_TERMS];
+  int len = 0;
+  bool fits = true;
+  // lift(u) * (v.x w.y - w.x v.y) for (u, v, w) = (a, b, c), (b, c, a), (c, a, b).
+  for (int t = 0; t < 3; ++t) {
+    dvec2 u = t == 0 ? ad : (t == 1 ? bd : cd);
+    dvec2 v = t == 0 ? bd : (t == 1 ? cd : ad);
+    dvec2 w = t == 0 ? cd : (t == 1 ? ad : bd);
+    double lift[4], minor[4];
+    lift[0] = two_product(u.x, u.x, lift[1]);
+    lift[2] = two_product(u.y, u.y, lift[3]);
+    minor[0] = two_product(v.x, w.y, minor[1]);
+    double m2, m3;
+    m2 = two_product(w.x, v.y, m3);
+    minor[2] = -m2;
+    minor[3] = -m3;
+    for (int k = 0; k < 16; ++k) {
+      double e;
+      precise double p = two_product(lift[k >> 2], minor[k & 3], e);
+      EXPANSION_GROW(e)
+      EXPANSION_GROW(p)
+    }
+  }
+  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+}
+
+// orient2d's exact sign where the four coordinate differences are exact, else UNCERTAIN.
+int orient2d_exact_differences(dvec2 a, dvec2 b, dvec2 c) {
+  if (!(safe2(a) && safe2(b) && safe2(c))) return UNCERTAIN;
+  bool ok = true;
+  precise double acx = cdiff(a.x, c.x, ok), bcy = cdiff(b.y, c.y, ok);
+  precise double acy = cdiff(a.y, c.y, ok), bcx = cdiff(b.x, c.x, ok);
+  if (!ok) return UNCERTAIN;
+  double h[EXACT_TERMS];
+  int len = 0;
+  bool fits = true;
+  double e1, e2;
+  precise double left = two_product(acx, bcy, e1);
+  precise double right = two_product(acy, bcx, e2);
+  EXPANSION_GROW(e1)
+  EXPANSION_GROW(left)
+  EXPANSION_GROW(-e2)
+  EXPANSION_GROW(-right)
+  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+}
+
+// Sign of |p - s|^2 - |q - s|^2 where the four coordinate differences are exact, else UNCERTAIN
+// (the nearest-neighbour comparison of nearly cocircular float inputs).
+int compare_distance_exact_differences(dvec2 s, dvec2 p, dvec2 q) {
+  if (!(safe2(s) && safe2(p) && safe2(q))) return UNCERTAIN;
+  bool ok = true;
+  precise dvec2 ps = dvec2(cdiff(p.x, s.x, ok), cdiff(p.y, s.y, ok));
+  precise dvec2 qs = dvec2(cdiff(q.x, s.x, ok), cdiff(q.y, s.y, ok));
+  if (!ok) return UNCERTAIN;
+  double h[EXACT_TERMS];
+  int len = 0;
+  bool fits = true;
+  for (int k = 0; k < 4; ++k) {
+    double v = k == 0 ? ps.x : (k == 1 ? ps.y : (k == 2 ? qs.x : qs.y));
+    double e;
+    precise double square = two_product(v, v, e);
+    double sign = k < 2 ? 1.0lf : -1.0lf;
+    EXPANSION_GROW(sign * e)
+    EXPANSION_GROW(sign * square)
+  }
+  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+}
+
 // Filter, then certificate; UNCERTAIN only when both give up.
 int orient2d_device(dvec2 a, dvec2 b, dvec2 c) {
   int s = orient2d_filter(a, b, c);
@@ -197,7 +303,9 @@ bool lex_less(dvec2 p, dvec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y);
 // incircle_perturbed_device's answer where p0, p1, p2, q are exactly cocircular: CGAL's
 // symbolic perturbation walks the four points from the lexicographically largest down (two
 // steps suffice). Index 3 is q.
-int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
+// With `differences`, orientations the certificate cannot decide are tried from exact
+// differences too (orient2d_exact_differences).
+int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q, bool differences) {
   dvec2 pts[4] = dvec2[4](p0, p1, p2, q);
   int order[4] = int[4](0, 1, 2, 3);
   for (int i = 1; i < 4; ++i) {  // insertion sort, ascending
@@ -213,9 +321,9 @@ int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
     int w = order[i];
     if (w == 3) return -1;
     int o;
-    if (w == 2) o = orient2d_device(p0, p1, q);
-    else if (w == 1) o = orient2d_device(p0, q, p2);
-    else o = orient2d_device(q, p1, p2);
+    dvec2 u = w == 2 ? p0 : (w == 1 ? p0 : q), v = w == 2 ? p1 : (w == 1 ? q : p1), x = w == 2 ? q : p2;
+    o = orient2d_device(u, v, x);
+    if (o == UNCERTAIN && differences) o = orient2d_exact_differences(u, v, x);
     if (o == UNCERTAIN) return UNCERTAIN;
     if (o != 0) return o;
   }
@@ -246,7 +354,15 @@ int cocircular_perturbed_lattice(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
 // UNCERTAIN when an unperturbed sign could not be decided on the device.
 int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   int s = incircle_device(p0, p1, p2, q);
-  return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q);
+  return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q, false);
+}
+
+// The same, trying incircle_exact_differences (and orientations from exact differences) where
+// filter and certificate give up.
+int incircle_perturbed_exact_differences(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
+  int s = incircle_device(p0, p1, p2, q);
+  if (s == UNCERTAIN) s = incircle_exact_differences(p0, p1, p2, q);
+  return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q, true);
 }
 
 #endif

@@ -55,6 +55,14 @@ std::vector<Case> make_cases() {
     auto g = [&] { return double(int(rng() % 9)) * 0x1p-4; };
     cases.push_back({{g(), g()}, {g(), g()}, {g(), g()}, {g(), g()}});
   }
+  // Squares of decimal grids (step 0.1, 0.01): cocircular up to rounding; every coordinate
+  // difference exact, so incircle_exact_differences decides them.
+  for (int i = 0; i < 2000; ++i) {
+    const double step = i % 2 ? 0.1 : 0.01;
+    const int x = int(rng() % 4000) + 1000, y = int(rng() % 4000) + 1000, w = int(rng() % 3) + 1;
+    auto at = [&](int gx, int gy) { return Point2{step * gx, step * gy}; };
+    cases.push_back({at(x, y), at(x + w, y), at(x + w, y + w), at(x, y + w)});
+  }
   // Exactly cocircular integer points: (±3, ±4), (±5, 0), (0, ±5) on radius 5, scaled.
   const Point2 circle[] = {{3, 4}, {-3, 4}, {-5, 0}, {-3, -4}, {0, -5}, {3, -4}, {5, 0}, {4, 3}};
   for (int i = 0; i < 8; ++i)
@@ -83,6 +91,7 @@ void test_predicates() {
   detail::vk::run_predicate_kernel(*context, flat, signs, eft);
 
   long orient_uncertain = 0, incircle_uncertain = 0, apex_uncertain = 0, perturbed_checked = 0;
+  long differences_decided = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
     const std::int32_t* s = &signs[detail::vk::kPredicateSigns * i];
@@ -118,6 +127,22 @@ void test_predicates() {
                     i, k, s[7 + k], exact_apex[k]);
       apex_uncertain += s[7 + k] == uncertain;
     }
+    // Incircle from exact differences: the host's decisions, and exact where they decide.
+    const int host_id =
+        ex::incircle_exact_differences(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y, c.d.x, c.d.y);
+    VK_CHECK_THAT(s[10] == host_id, "case %zu: incircle from exact differences device %d host %d", i, s[10], host_id);
+    VK_CHECK_THAT(s[10] == uncertain || s[10] == exact_i, "case %zu: incircle from exact differences device %d exact %d",
+                  i, s[10], exact_i);
+    differences_decided += s[10] != uncertain && s[5] == uncertain;
+    // orient2d from exact differences: exact, and decided whenever the differences are exact.
+    double e0, e1, e2, e3;
+    ex::two_diff(c.a.x, c.c.x, e0);
+    ex::two_diff(c.b.y, c.c.y, e1);
+    ex::two_diff(c.a.y, c.c.y, e2);
+    ex::two_diff(c.b.x, c.c.x, e3);
+    const bool exact_differences = e0 == 0.0 && e1 == 0.0 && e2 == 0.0 && e3 == 0.0;
+    VK_CHECK_THAT(s[11] == (exact_differences ? exact_o : uncertain), "case %zu: orient from exact differences device %d exact %d",
+                  i, s[11], exact_o);
     orient_uncertain += s[2] == uncertain;
     incircle_uncertain += s[5] == uncertain;
     if (s[2] == 1 && s[6] != uncertain) {
@@ -130,8 +155,10 @@ void test_predicates() {
     }
   }
   std::printf("predicates: %zu cases, device undecided: orient %ld, incircle %ld, apex filters %ld; "
-              "perturbed compared %ld\n",
-              cases.size(), orient_uncertain, incircle_uncertain, apex_uncertain, perturbed_checked);
+              "perturbed compared %ld; decided from exact differences where the certificate could not %ld\n",
+              cases.size(), orient_uncertain, incircle_uncertain, apex_uncertain, perturbed_checked,
+              differences_decided);
+  VK_CHECK_THAT(differences_decided >= 1000, "exact differences decided only %ld cases", differences_decided);
   // The near-degenerate families must exercise the "uncertain" answer, or this test is weak.
   VK_CHECK_THAT(orient_uncertain > 0 && incircle_uncertain > 0 && apex_uncertain > 0, "no undecided cases generated");
 }

@@ -954,10 +954,12 @@ class VulkanBackend final : public Backend {
     const std::uint64_t classes = star_passes();
     const bool lattice = exact_lattice_arithmetic(input.sites) && exact_lattice_search();
     const bool light = classes == 1 && light_first_pass() && (lattice || !input.sites.integer_coordinates);
+    // The retry dispatch also decides incircles from exact coordinate differences (star.comp's
+    // EXACT_DIFFERENCES).
     auto star_spec = [&](bool exact_path, bool retry) {
-      return std::array<std::uint32_t, 8>{wg, star_capacity, loop_budget(true), apex_filters(),
+      return std::array<std::uint32_t, 9>{wg, star_capacity, loop_budget(true), apex_filters(),
                                           lattice ? 1u : 0u, frame.quantile ? 1u : 0u, exact_path ? 1u : 0u,
-                                          retry ? 1u : 0u};
+                                          retry ? 1u : 0u, retry ? 1u : 0u};
     };
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

@@ -27,7 +27,7 @@ std::unique_ptr<Backend> make_backend_on(std::shared_ptr<Context> context);
 
 /// Runs shaders/predicate_test.comp. cases: 8 doubles per case (points a, b, c, d).
 /// signs: kPredicateSigns ints per case; eft: 4 doubles per case (see the shader).
-inline constexpr std::size_t kPredicateSigns = 10;
+inline constexpr std::size_t kPredicateSigns = 12;
 void run_predicate_kernel(Context& context, std::span<const double> cases,
                           std::vector<std::int32_t>& signs, std::vector<double>& eft);
 
