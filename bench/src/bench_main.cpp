@@ -50,6 +50,7 @@ struct Config {
   int repetitions = 5;
   double max_seconds = 60.0;
   std::uint64_t seed = 1;
+  double scale = 1.0;  ///< generated coordinates times this (0.1: a decimal grid from the integer one)
   int device = -1;
   bool neighbors = true;
   std::string out;
@@ -113,6 +114,7 @@ json base_record(const RunContext& context, const Config& config, const std::str
           {"distribution", distribution},
           {"n", n},
           {"seed", config.seed},
+          {"scale", config.scale},
           {"commit", context.commit},
           {"date", bench::utc_now()},
           {"machine", context.machine},
@@ -360,7 +362,9 @@ int run(const Config& config) {
   for (const auto& distribution : config.distributions) {
     for (std::size_t n : config.sizes) {
       std::cerr << distribution << " n=" << n << "\n";
-      const auto points = expanse::generate_points(distribution, n, config.seed);
+      auto points = expanse::generate_points(distribution, n, config.seed);
+      if (config.scale != 1.0)
+        for (auto& p : points) p = {p.x * config.scale, p.y * config.scale};
       // The peers read the same coordinates, copied once outside every timing.
       std::vector<bench::XY> xy(points.size());
       for (std::size_t i = 0; i < points.size(); ++i) xy[i] = {points[i].x, points[i].y};
@@ -427,6 +431,9 @@ int main(int argc, char** argv) {
                  "fewer repetitions (at least one) when they would take longer than this")
       ->capture_default_str();
   app.add_option("--seed", config.seed, "seed of the point generator")->capture_default_str();
+  app.add_option("--scale", config.scale,
+                 "multiply the generated coordinates by this (0.1 makes the integer grid a decimal one)")
+      ->capture_default_str();
   app.add_option("--device", config.device, "device index for GPU backends; -1 = best")->capture_default_str();
   app.add_flag("!--no-neighbors", config.neighbors, "skip adjacency in Expanse (peers always build it)");
   app.add_option("-o,--out", config.out, "append JSON lines to this file (default: stdout)");
