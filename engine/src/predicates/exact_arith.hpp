@@ -447,14 +447,35 @@ EXPANSE_HD inline int orient2d_expansion(double ax, double ay, double bx, double
   return (acx * bcy - acy * bcx).sign();
 }
 
+/// Adds x to the expansion h[0 .. *size) in place (Shewchuk's GROW-EXPANSION-ZEROELIM: h stays
+/// in increasing magnitude, non-overlapping, without zeros). False when it would not fit in
+/// `capacity` terms.
+EXPANSE_HD inline bool grow_terms(double* h, int* size, int capacity, double x) {
+  double q = x;
+  int out = 0;
+  for (int i = 0; i < *size; ++i) {
+    double error;
+    q = two_sum(q, h[i], error);
+    if (error != 0.0) h[out++] = error;
+  }
+  if (q != 0.0 || out == 0) {
+    if (out == capacity) return false;
+    h[out++] = q;
+  }
+  *size = out;
+  return true;
+}
+
 /// incircle's exact sign where the six coordinate differences against d are exact (their
 /// error-free remainders zero), or `uncertain` where one is not (or a coordinate is outside the
-/// safe range). Each difference is then one double, so the determinant's expansions stay small
-/// (at most 4 terms per 2 x 2 minor and per lift, 32 per product, 96 in all: about 2 KB, where
-/// incircle_expansion needs ~40 KB), small enough for a device thread's exact path. Nearby sites
+/// safe range). Each difference is then one double, and the determinant is the exact sum of 96
+/// exact products (each lift and each 2 x 2 minor is a sum of four doubles from two_product),
+/// grown term by term into one expansion of at most 40 doubles (320 bytes), where
+/// incircle_expansion needs ~40 KB: small enough for a device thread's exact path. Nearby sites
 /// of one magnitude always qualify (Sterbenz: y / 2 <= x <= 2 y makes x - y exact), so decimal
 /// grids and other nearly cocircular float inputs are decided here; only differences across a
-/// coordinate's sign change or binade boundary near zero may not be.
+/// coordinate's sign change or binade boundary near zero may not be. shaders/include/
+/// predicates.glsl evaluates it the same way.
 EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx, double by, double cx,
                                                  double cy, double dx, double dy) {
   if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
@@ -465,13 +486,29 @@ EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx
   const double bdx = two_diff(bx, dx, e2), bdy = two_diff(by, dy, e3);
   const double cdx = two_diff(cx, dx, e4), cdy = two_diff(cy, dy, e5);
   if (!((e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0))) return uncertain;
-  const Expansion<4> bc = exact_product(bdx, cdy) - exact_product(cdx, bdy);
-  const Expansion<4> ca = exact_product(cdx, ady) - exact_product(adx, cdy);
-  const Expansion<4> ab = exact_product(adx, bdy) - exact_product(bdx, ady);
-  const Expansion<4> alift = exact_product(adx, adx) + exact_product(ady, ady);
-  const Expansion<4> blift = exact_product(bdx, bdx) + exact_product(bdy, bdy);
-  const Expansion<4> clift = exact_product(cdx, cdx) + exact_product(cdy, cdy);
-  return (alift * bc + blift * ca + clift * ab).sign();
+  constexpr int capacity = 40;  // a non-overlapping expansion within the safe range needs fewer
+  double h[capacity];
+  int size = 0;
+  // lift(u) (v.x w.y - w.x v.y) for (u, v, w) = (a, b, c), (b, c, a), (c, a, b).
+  const double ux[3] = {adx, bdx, cdx}, uy[3] = {ady, bdy, cdy};
+  for (int t = 0; t < 3; ++t) {
+    const int v = (t + 1) % 3, w = (t + 2) % 3;
+    double lift[4], minor[4];
+    lift[0] = two_product(ux[t], ux[t], lift[1]);
+    lift[2] = two_product(uy[t], uy[t], lift[3]);
+    minor[0] = two_product(ux[v], uy[w], minor[1]);
+    double m_low;
+    const double m_high = two_product(ux[w], uy[v], m_low);
+    minor[2] = -m_high;
+    minor[3] = -m_low;
+    for (int k = 0; k < 16; ++k) {
+      double error;
+      const double product = two_product(lift[k >> 2], minor[k & 3], error);
+      if (!grow_terms(h, &size, capacity, error) || !grow_terms(h, &size, capacity, product)) return uncertain;
+    }
+  }
+  const double top = size == 0 ? 0.0 : h[size - 1];  // a zero sum leaves one zero term
+  return (top > 0.0) - (top < 0.0);
 }
 
 /// Needs ~40 KB of stack: fine on the host, a last resort on devices.
