@@ -292,6 +292,8 @@ TEST_CASE("the exactness certificate decides integer inputs and is never wrong",
 }
 
 TEST_CASE("incircle from exact differences matches the rationals, and declines inexact differences", "[exact]") {
+  // Both forms: multiplied out in expansions (the host) and grown from the exact products (the
+  // devices, as shaders/include/predicates.glsl does).
   long decided = 0, total = 0;
   for (int family = 0; family < 4; ++family)
     for (int i = 0; i < 3000; ++i) {
@@ -300,6 +302,8 @@ TEST_CASE("incircle from exact differences matches the rationals, and declines i
       const double scale = std::ldexp(1.0, integer(-150, 150));
       for (double& v : p) v *= scale;
       const int sign = exact::incircle_exact_differences(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]);
+      // The devices' form decides the same cases the same way.
+      REQUIRE(exact::incircle_exact_differences_grown(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]) == sign);
       ++total;
       if (sign == exact::uncertain) continue;
       ++decided;
@@ -313,6 +317,7 @@ TEST_CASE("incircle from exact differences matches the rationals, and declines i
     const int x = integer(1000, 2000), y = integer(1000, 2000), w = integer(1, 3);
     double p[8] = {0.1 * x, 0.1 * y, 0.1 * (x + w), 0.1 * y, 0.1 * (x + w), 0.1 * (y + w), 0.1 * x, 0.1 * (y + w)};
     const int sign = exact::incircle_exact_differences(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]);
+    REQUIRE(exact::incircle_exact_differences_grown(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]) == sign);
     grid_decided += sign != exact::uncertain;
     if (sign != exact::uncertain) REQUIRE(sign == reference_incircle(p));
   }

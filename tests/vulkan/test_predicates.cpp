@@ -129,7 +129,7 @@ void test_predicates() {
     }
     // Incircle from exact differences: the host's decisions, and exact where they decide.
     const int host_id =
-        ex::incircle_exact_differences(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y, c.d.x, c.d.y);
+        ex::incircle_exact_differences_grown(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y, c.d.x, c.d.y);
     VK_CHECK_THAT(s[10] == host_id, "case %zu: incircle from exact differences device %d host %d", i, s[10], host_id);
     VK_CHECK_THAT(s[10] == uncertain || s[10] == exact_i, "case %zu: incircle from exact differences device %d exact %d",
                   i, s[10], exact_i);

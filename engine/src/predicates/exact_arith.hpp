@@ -468,15 +468,40 @@ EXPANSE_HD inline bool grow_terms(double* h, int* size, int capacity, double x) 
 
 /// incircle's exact sign where the six coordinate differences against d are exact (their
 /// error-free remainders zero), or `uncertain` where one is not (or a coordinate is outside the
-/// safe range). Each difference is then one double, and the determinant is the exact sum of 96
-/// exact products (each lift and each 2 x 2 minor is a sum of four doubles from two_product),
-/// grown term by term into one expansion of at most 40 doubles (320 bytes), where
-/// incircle_expansion needs ~40 KB: small enough for a device thread's exact path. Nearby sites
+/// safe range). Each difference is then one double, so the determinant's expansions stay small
+/// (at most 4 terms per 2 x 2 minor and per lift, 32 per product, 96 in all: about 2 KB, where
+/// incircle_expansion needs ~40 KB; devices use the 320-byte form below). Nearby sites
 /// of one magnitude always qualify (Sterbenz: y / 2 <= x <= 2 y makes x - y exact), so decimal
 /// grids and other nearly cocircular float inputs are decided here; only differences across a
-/// coordinate's sign change or binade boundary near zero may not be. shaders/include/
-/// predicates.glsl evaluates it the same way.
+/// coordinate's sign change or binade boundary near zero may not be.
 EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx, double by, double cx,
+                                                 double cy, double dx, double dy) {
+  if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
+        in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
+    return uncertain;
+  double e0, e1, e2, e3, e4, e5;
+  const double adx = two_diff(ax, dx, e0), ady = two_diff(ay, dy, e1);
+  const double bdx = two_diff(bx, dx, e2), bdy = two_diff(by, dy, e3);
+  const double cdx = two_diff(cx, dx, e4), cdy = two_diff(cy, dy, e5);
+  if (!((e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0))) return uncertain;
+  const Expansion<4> bc = exact_product(bdx, cdy) - exact_product(cdx, bdy);
+  const Expansion<4> ca = exact_product(cdx, ady) - exact_product(adx, cdy);
+  const Expansion<4> ab = exact_product(adx, bdy) - exact_product(bdx, ady);
+  const Expansion<4> alift = exact_product(adx, adx) + exact_product(ady, ady);
+  const Expansion<4> blift = exact_product(bdx, bdx) + exact_product(bdy, bdy);
+  const Expansion<4> clift = exact_product(cdx, cdx) + exact_product(cdy, cdy);
+  return (alift * bc + blift * ca + clift * ab).sign();
+}
+
+/// incircle_exact_differences's sign for device threads: the determinant as the exact sum of its
+/// 96 exact products (each lift and each 2 x 2 minor a sum of four doubles from two_product),
+/// grown term by term into one expansion of at most 40 doubles (320 bytes of stack, against the
+/// 2 KB of arrays that multiplying out takes). On the H100 the CUDA star kernels took 451 ms
+/// for a 4096^2 decimal grid against 1,049 multiplied out; on the host's cores it is the slower
+/// (the CPU backend on a 250k decimal grid: 390 against 245 ms), so the host multiplies out.
+/// shaders/include/predicates.glsl evaluates it the same way. `uncertain` also where the
+/// expansion would not fit (it always fits within the safe range).
+EXPANSE_HD inline int incircle_exact_differences_grown(double ax, double ay, double bx, double by, double cx,
                                                  double cy, double dx, double dy) {
   if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
         in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
