@@ -466,6 +466,23 @@ EXPANSE_HD inline bool grow_terms(double* h, int* size, int capacity, double x) 
   return true;
 }
 
+/// a - d, b - d, c - d into diff[0 .. 6) (x, y each), when the coordinates are in the safe range
+/// and every difference is exact (its two_diff remainder zero).
+EXPANSE_HD inline bool exact_differences_against(double ax, double ay, double bx, double by, double cx, double cy,
+                                                 double dx, double dy, double* diff) {
+  if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
+        in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
+    return false;
+  double e0, e1, e2, e3, e4, e5;
+  diff[0] = two_diff(ax, dx, e0);
+  diff[1] = two_diff(ay, dy, e1);
+  diff[2] = two_diff(bx, dx, e2);
+  diff[3] = two_diff(by, dy, e3);
+  diff[4] = two_diff(cx, dx, e4);
+  diff[5] = two_diff(cy, dy, e5);
+  return (e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0);
+}
+
 /// incircle's exact sign where the six coordinate differences against d are exact (their
 /// error-free remainders zero), or `uncertain` where one is not (or a coordinate is outside the
 /// safe range). Each difference is then one double, so the determinant's expansions stay small
@@ -476,14 +493,9 @@ EXPANSE_HD inline bool grow_terms(double* h, int* size, int capacity, double x) 
 /// coordinate's sign change or binade boundary near zero may not be.
 EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx, double by, double cx,
                                                  double cy, double dx, double dy) {
-  if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
-        in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
-    return uncertain;
-  double e0, e1, e2, e3, e4, e5;
-  const double adx = two_diff(ax, dx, e0), ady = two_diff(ay, dy, e1);
-  const double bdx = two_diff(bx, dx, e2), bdy = two_diff(by, dy, e3);
-  const double cdx = two_diff(cx, dx, e4), cdy = two_diff(cy, dy, e5);
-  if (!((e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0))) return uncertain;
+  double diff[6];
+  if (!exact_differences_against(ax, ay, bx, by, cx, cy, dx, dy, diff)) return uncertain;
+  const double adx = diff[0], ady = diff[1], bdx = diff[2], bdy = diff[3], cdx = diff[4], cdy = diff[5];
   const Expansion<4> bc = exact_product(bdx, cdy) - exact_product(cdx, bdy);
   const Expansion<4> ca = exact_product(cdx, ady) - exact_product(adx, cdy);
   const Expansion<4> ab = exact_product(adx, bdy) - exact_product(bdx, ady);
@@ -502,15 +514,10 @@ EXPANSE_HD inline int incircle_exact_differences(double ax, double ay, double bx
 /// shaders/include/predicates.glsl evaluates it the same way. `uncertain` also where the
 /// expansion would not fit (it always fits within the safe range).
 EXPANSE_HD inline int incircle_exact_differences_grown(double ax, double ay, double bx, double by, double cx,
-                                                 double cy, double dx, double dy) {
-  if (!(in_safe_range(ax) && in_safe_range(ay) && in_safe_range(bx) && in_safe_range(by) &&
-        in_safe_range(cx) && in_safe_range(cy) && in_safe_range(dx) && in_safe_range(dy)))
-    return uncertain;
-  double e0, e1, e2, e3, e4, e5;
-  const double adx = two_diff(ax, dx, e0), ady = two_diff(ay, dy, e1);
-  const double bdx = two_diff(bx, dx, e2), bdy = two_diff(by, dy, e3);
-  const double cdx = two_diff(cx, dx, e4), cdy = two_diff(cy, dy, e5);
-  if (!((e0 == 0.0) & (e1 == 0.0) & (e2 == 0.0) & (e3 == 0.0) & (e4 == 0.0) & (e5 == 0.0))) return uncertain;
+                                                       double cy, double dx, double dy) {
+  double diff[6];
+  if (!exact_differences_against(ax, ay, bx, by, cx, cy, dx, dy, diff)) return uncertain;
+  const double adx = diff[0], ady = diff[1], bdx = diff[2], bdy = diff[3], cdx = diff[4], cdy = diff[5];
   constexpr int capacity = 40;  // a non-overlapping expansion within the safe range needs fewer
   double h[capacity];
   int size = 0;
