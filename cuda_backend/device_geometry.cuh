@@ -78,8 +78,8 @@ EXPANSE_DEVICE_FORCE int orient_on_lattice(double2 a, double2 b, double2 c) {
 /// CCW (a, b, c): +1 if d is inside the perturbed circle, -1 outside, or `uncertain`. The full
 /// incircle expansion needs ~40 KB of stack per thread, too much to reserve for every resident
 /// GPU thread; its form for exact coordinate differences (incircle_exact_differences_grown, 320
-/// bytes) decides nearby sites of one magnitude, nearly cocircular float inputs among them. An incircle that neither the filter, the
-/// certificate nor that decides is deferred.
+/// bytes) decides nearby sites of one magnitude, nearly cocircular float inputs among them. An
+/// incircle that neither the filter, the certificate nor that decides is deferred.
 EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
   int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);

@@ -206,10 +206,10 @@ const int EXACT_TERMS = 40;  // a non-overlapping expansion within the safe rang
 int expansion_sign(double top) { return int(top > 0.0lf) - int(top < 0.0lf); }
 
 // incircle's exact sign where the six coordinate differences against d are exact, else
-// UNCERTAIN: exact_arith.hpp's incircle_exact_differences, the determinant summed term by term
-// (its 96 exact products) into one expansion of at most EXACT_TERMS doubles instead of
-// multiplied out in expansions. Decimal grids and other nearly cocircular float inputs: nearby
-// sites of one magnitude have exact differences (Sterbenz).
+// UNCERTAIN: exact_arith.hpp's incircle_exact_differences_grown, the determinant's 96 exact
+// products grown term by term into one expansion of at most EXACT_TERMS doubles. Decimal grids
+// and other nearly cocircular float inputs: nearby sites of one magnitude have exact differences
+// (Sterbenz).
 int incircle_exact_differences(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
   bool ok = true;
