@@ -72,10 +72,31 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, do
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
 }
 
-/// table[k] = QuantileGuide::entry(..., k), k = 0 .. bins.
-__global__ void guide_kernel(const double* bounds, int cells, int bins, double origin, double extent, int* table) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k <= bins) table[k] = QuantileGuide::entry(bounds, cells, bins, origin, extent, k);
+/// One axis' guide (grid/quantile_guide.hpp), in one block: both keys' tables, in `logarithmic`
+/// and `even` (quantile_guide_capacity entries each), their costs, and the cheaper key in *chosen
+/// (build_quantile_guide on the device). bounds[1 .. cells) are the boundaries.
+__global__ void guide_kernel(const double* bounds, int cells, double lo, double hi, int* logarithmic, int* even,
+                             QuantileGuideKey* chosen) {
+  __shared__ QuantileGuideKey keys[2];
+  __shared__ unsigned long long costs[2];
+  if (threadIdx.x == 0) {
+    keys[0] = plan_logarithmic_quantile_guide(bounds + 1, cells, lo, hi);
+    keys[1] = plan_even_quantile_guide(lo, hi, cells);
+    costs[0] = costs[1] = 0;
+  }
+  __syncthreads();
+  int* const tables[2] = {logarithmic, even};
+  for (int t = 0; t < 2; ++t)
+    for (int k = threadIdx.x; k <= 2 * keys[t].half; k += blockDim.x)
+      tables[t][k] = quantile_guide_entry(bounds + 1, cells - 1, keys[t], k);
+  __syncthreads();
+  for (int t = 0; t < 2; ++t) {
+    unsigned long long cost = 0;
+    for (int k = threadIdx.x; k < 2 * keys[t].half; k += blockDim.x) cost += quantile_guide_bin_cost(tables[t], k);
+    atomicAdd(&costs[t], cost);
+  }
+  __syncthreads();
+  if (threadIdx.x == 0) *chosen = costs[1] < costs[0] ? keys[1] : keys[0];
 }
 
 constexpr int kBucketThreads = 256;
@@ -102,8 +123,11 @@ class CellBuckets {
         // Room for the uniform shape's columns or rows, and for the square quantile shape's.
         xb_(quantile_ ? std::max(shape.gx, shape.gy) + 1 : 0, stream),
         yb_(quantile_ ? std::max(shape.gx, shape.gy) + 1 : 0, stream),
-        x_guide_(quantile_ ? QuantileGuide::bins_for(std::max(shape.gx, shape.gy)) + 1 : 0, stream),
-        y_guide_(quantile_ ? QuantileGuide::bins_for(std::max(shape.gx, shape.gy)) + 1 : 0, stream),
+        x_guide_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
+        y_guide_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
+        x_even_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
+        y_even_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
+        guide_keys_(quantile_ ? 2 : 0, stream),
         sx_(quantile_ ? samples_ : 0, stream),
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
@@ -120,8 +144,10 @@ class CellBuckets {
 
   /// Buckets points[0, n) (n <= capacity): sets g's boundaries (g.xb, g.yb, quantile kind) and
   /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
-  /// `word`: pinned host memory for the evenness test's one number (the host waits for it).
-  void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, cudaStream_t stream) {
+  /// `word`: pinned host memory for the evenness test's one number; `guide_keys`: for the two axes'
+  /// guide keys (the host waits for both).
+  void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, QuantileGuideKey* guide_keys,
+             cudaStream_t stream) {
     uniform_ = !quantile_;
     const int samples = quantile_sample_count(static_cast<std::size_t>(n));
     if (quantile_) {
@@ -152,15 +178,19 @@ class CellBuckets {
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();
       g.yb = yb_.get();
-      const int x_bins = QuantileGuide::bins_for(q.gx), y_bins = QuantileGuide::bins_for(q.gy);
-      guide_kernel<<<bucket_blocks(x_bins + 1), kBucketThreads, 0, stream>>>(xb_.get(), q.gx, x_bins, g.min_x,
-                                                                            g.max_x - g.min_x, x_guide_.get());
-      guide_kernel<<<bucket_blocks(y_bins + 1), kBucketThreads, 0, stream>>>(yb_.get(), q.gy, y_bins, g.min_y,
-                                                                            g.max_y - g.min_y, y_guide_.get());
-      EXPANSE_CUDA(cudaGetLastError());
-      if (!guide_off_asked()) {
-        g.x_guide = quantile_guide_or_none(x_guide_.get(), q.gx, g.min_x, g.max_x);
-        g.y_guide = quantile_guide_or_none(y_guide_.get(), q.gy, g.min_y, g.max_y);
+      if (!guide_off_asked() && quantile_guided(q.gx) && quantile_guided(q.gy)) {
+        // Each axis' guide chooses its key on the device; the host waits for the choice (quantile
+        // cells only: the two sample sorts and the tables, well under a millisecond).
+        guide_kernel<<<1, 1024, 0, stream>>>(xb_.get(), q.gx, g.min_x, g.max_x, x_guide_.get(), x_even_.get(),
+                                             guide_keys_.get());
+        guide_kernel<<<1, 1024, 0, stream>>>(yb_.get(), q.gy, g.min_y, g.max_y, y_guide_.get(), y_even_.get(),
+                                             guide_keys_.get() + 1);
+        EXPANSE_CUDA(cudaGetLastError());
+        EXPANSE_CUDA(cudaMemcpyAsync(guide_keys, guide_keys_.get(), 2 * sizeof(QuantileGuideKey), cudaMemcpyDeviceToHost,
+                                     stream));
+        EXPANSE_CUDA(cudaStreamSynchronize(stream));
+        g.x_guide = {guide_keys[0].logarithmic ? x_guide_.get() : x_even_.get(), guide_keys[0]};
+        g.y_guide = {guide_keys[1].logarithmic ? y_guide_.get() : y_even_.get(), guide_keys[1]};
       }
     }
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get());
@@ -219,7 +249,9 @@ class CellBuckets {
 
  private:
   DeviceArray<double> xb_, yb_;
-  DeviceArray<int> x_guide_, y_guide_;
+  DeviceArray<int> x_guide_, y_guide_;  ///< the logarithmic keys' tables
+  DeviceArray<int> x_even_, y_even_;    ///< the even keys' tables
+  DeviceArray<QuantileGuideKey> guide_keys_;
   DeviceArray<double> sx_, sy_, sx2_, sy2_;
   DeviceArray<unsigned int> bins_;  ///< the evenness histogram, then its fullest bin
   DeviceArray<unsigned char> temp_;

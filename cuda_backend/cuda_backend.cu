@@ -234,7 +234,7 @@ class CudaBackend final : public Backend {
       side_staging_ = std::make_unique<PinnedStaging>(std::size_t{32} << 20, 8);
       ctx_.side_staging = side_staging_.get();
     }
-    EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), 16 * sizeof(unsigned int),
+    EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), Context::kPinnedWords * sizeof(unsigned int),
                                cudaHostAllocDefault));
   }
 

@@ -93,7 +93,9 @@ struct Context {
   /// work then all stays on it.
   cudaStream_t side_stream = nullptr;
   PinnedStaging* side_staging = nullptr;
-  unsigned int* pinned_words = nullptr;  ///< 16 pinned words for small asynchronous read-backs
+  /// 0..15: counters and sizes; 16..31: the two quantile guide keys (16 is 8-byte aligned).
+  static constexpr int kPinnedWords = 32;
+  unsigned int* pinned_words = nullptr;  ///< kPinnedWords pinned words for small asynchronous read-backs
 };
 
 /// Sites already on the device in the order of the host's SiteSet, and the hull in their ids

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "device_compat.cuh"
+#include "grid/quantile_guide.hpp"
 #include "predicates/exact_arith.hpp"
 
 namespace expanse::detail::cuda {
@@ -88,30 +89,21 @@ EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d
   return cocircular_perturbed(a, b, c, d);
 }
 
-/// Where a quantile axis' binary search starts: the axis cut into `bins` equal intervals from
-/// `origin`, first[k] the column of interval k's left end (first[0] = 0, first[bins] = the last
-/// column). A value's interval k, widened by one on each side, gives a range
-/// [first[k - 1], first[k + 2]] of a few columns that holds the value's column, so the search
-/// returns exactly what the full binary search would (H100, 4096^2 uniform: cells looked up by
-/// 12-step binary searches cost the star kernel about a third of its time). The widening covers
-/// the rounding of k and of the interval ends as long as an interval is wide against the
-/// coordinates' ulp (quantile_guide_or_none sets no guide otherwise: a narrow cluster far from 0).
+/// A quantile axis' guide (grid/quantile_guide.hpp): its key and its table, first[k] the
+/// number of column boundaries in bins below k. None (first == nullptr): the full binary search.
+/// H100, 4096^2 uniform: cells looked up by 12-step binary searches cost the star kernel about a
+/// third of its time.
 struct QuantileGuide {
-  /// Narrows [*lo, *hi] to a range that still holds v's column; t is v's place on the axis in
-  /// columns of the uniform grid over the same box ((v - min) * inv_w: a guide has two
-  /// intervals a uniform column).
-  EXPANSE_DEVICE_FORCE static void narrow(const int* first, int bins, double t, int* lo, int* hi) {
-    const double u = t + t;
-    const int k = u >= 0.0 ? (u < static_cast<double>(bins) ? static_cast<int>(u) : bins - 1) : 0;
-    *lo = load_readonly(first + (k > 0 ? k - 1 : 0));
-    *hi = load_readonly(first + (k + 2 < bins ? k + 2 : bins));
-  }
+  const int* first = nullptr;
+  QuantileGuideKey key;
 
-  /// Entry k of the table for `bounds` (the full binary search at interval k's left end).
-  EXPANSE_DEVICE_FORCE static int entry(const double* bounds, int cells, int bins, double origin, double extent,
-                                        int k);
-  /// How many intervals a guide of an axis with `cells` columns gets.
-  EXPANSE_HOST_DEVICE static int bins_for(int cells) { return 2 * cells; }
+  /// Narrows [*lo, *hi] to the columns that can hold v: those between the counts of v's bin and
+  /// of the next.
+  EXPANSE_DEVICE_FORCE void narrow(double v, int* lo, int* hi) const {
+    const int k = quantile_guide_bin(key, v);
+    *lo = load_readonly(first + k);
+    *hi = load_readonly(first + k + 1);
+  }
 };
 
 /// A grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1] the sites
@@ -131,8 +123,7 @@ struct GridView {
   const double* xb = nullptr;  ///< quantile kind: gx + 1 column boundaries
   const double* yb = nullptr;
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
-  const int* x_guide = nullptr;  ///< quantile kind, optional: where to start searching
-  const int* y_guide = nullptr;  ///< (QuantileGuide tables, over min_x/min_y and inv_w/inv_h)
+  QuantileGuide x_guide, y_guide;  ///< quantile kind, optional: where to start searching
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
@@ -147,21 +138,21 @@ struct GridView {
     return lo;
   }
   /// Column (row) of v on a quantile axis: the full binary search, or the guided one.
-  EXPANSE_DEVICE_FORCE static int quantile_index(const double* bounds, int cells, const int* guide, double t,
+  EXPANSE_DEVICE_FORCE static int quantile_index(const double* bounds, int cells, const QuantileGuide& guide,
                                                  double v) {
     int lo = 0, hi = cells - 1;
-    if (guide) QuantileGuide::narrow(guide, QuantileGuide::bins_for(cells), t, &lo, &hi);
+    if (guide.first) guide.narrow(v, &lo, &hi);
     return upper_index(bounds, v, lo, hi);
   }
   EXPANSE_DEVICE_FORCE int cell_x(double x) const {
-    if (xb) return quantile_index(xb, gx, x_guide, (x - min_x) * inv_w, x);
+    if (xb) return quantile_index(xb, gx, x_guide, x);
     const double t = ex::mul(ex::sub(x, min_x), inv_w);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gx - 1)) return gx - 1;
     return static_cast<int>(t);
   }
   EXPANSE_DEVICE_FORCE int cell_y(double y) const {
-    if (yb) return quantile_index(yb, gy, y_guide, (y - min_y) * inv_h, y);
+    if (yb) return quantile_index(yb, gy, y_guide, y);
     const double t = ex::mul(ex::sub(y, min_y), inv_h);
     if (!(t >= 0.0)) return 0;
     if (t >= static_cast<double>(gy - 1)) return gy - 1;
@@ -192,12 +183,6 @@ struct GridView {
   }
 };
 
-EXPANSE_DEVICE_FORCE int QuantileGuide::entry(const double* bounds, int cells, int bins, double origin,
-                                              double extent, int k) {
-  if (k <= 0) return 0;
-  if (k >= bins) return cells - 1;
-  return GridView::upper_index(bounds, origin + extent * k / bins, 0, cells - 1);
-}
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
 EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {

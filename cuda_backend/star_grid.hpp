@@ -142,15 +142,7 @@ EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, 
   return sorted[k < samples ? k : samples - 1];
 }
 
-/// `table` (QuantileGuide::bins_for(cells) + 1 entries filled by QuantileGuide::entry over
-/// [lo, hi]) as the axis' guide, or none (a plain binary search) for an axis whose intervals
-/// would be narrower than 64 ulps of its coordinates, where rounding could move a value by a
-/// whole interval.
-inline const int* quantile_guide_or_none(const int* table, int cells, double lo, double hi) {
-  if (table == nullptr || !(hi > lo)) return nullptr;
-  const double magnitude = 2.0 * std::max(std::fabs(lo), std::fabs(hi));
-  const double ulp = std::nextafter(magnitude, HUGE_VAL) - magnitude;
-  return (hi - lo) / QuantileGuide::bins_for(cells) >= 64.0 * ulp ? table : nullptr;
-}
+/// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.
+inline bool quantile_guided(int cells) { return cells >= 8; }
 
 }  // namespace expanse::detail::cuda

@@ -196,11 +196,10 @@ class HostStarLayout {
 
  private:
   static void fill_guide(const std::vector<double>& bounds, int cells, double lo, double hi, std::vector<int>& table,
-                         const int*& guide) {
-    const int bins = QuantileGuide::bins_for(cells);
-    table.resize(bins + 1);
-    for (int k = 0; k <= bins; ++k) table[k] = QuantileGuide::entry(bounds.data(), cells, bins, lo, hi - lo, k);
-    guide = quantile_guide_or_none(table.data(), cells, lo, hi);
+                         QuantileGuide& guide) {
+    if (!quantile_guided(cells)) return;
+    guide.key = build_quantile_guide(bounds.data() + 1, cells, lo, hi, table);
+    guide.first = table.data();
   }
 
   GridView grid_{};

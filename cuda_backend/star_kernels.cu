@@ -343,8 +343,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       exact_lattice_arithmetic(input.sites) && !(lattice_env && std::strcmp(lattice_env, "0") == 0);
 
   timer.begin("bucket");
-  // The evenness test's read-back goes through pinned word 15, read at once (the audit reuses it later).
-  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15], stream);
+  // The evenness test's read-back goes through pinned word 15, the guides' keys through words
+  // 16..31, each read at once (the audit reuses word 15 later).
+  static_assert(2 * sizeof(QuantileGuideKey) == 16 * sizeof(unsigned int));
+  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
+                reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(

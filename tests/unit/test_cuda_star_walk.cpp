@@ -275,55 +275,92 @@ TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of 
 }
 
 TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search", "[cuda][grid]") {
-  // Boundaries as a cluster's quantiles give them: most of the columns in a small part of the
-  // axis, runs of equal boundaries (duplicated coordinates), and values in, on, between and
-  // outside them; axes near 0, negative, and narrow far from 0 (where an interval is a few
-  // thousand ulps wide).
+  // Boundaries as clusters and heavy tails give them: most of the columns in a small part of the
+  // axis (a power law at one end; Cauchy quantiles, kuzmin's marginals, spanning 10^12; the
+  // paper's two gaussian clusters, their median between them), runs of equal boundaries
+  // (duplicated coordinates), the median column of zero width, and values in, on, between and
+  // outside them, subnormally close to the centre among them; axes near 0, negative, and narrow
+  // far from 0 (where an interval is a few thousand ulps wide).
   std::mt19937_64 random(23);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const std::vector<std::pair<double, double>> axes = {{1.0, 4.0}, {-3.0, -1.0}, {0.5, 0.5 + std::ldexp(1.0, -30)}};
-  for (const auto& [lo, hi] : axes) {
-    for (const int cells : {1, 2, 3, 64, 1000}) {
-      const double extent = hi - lo;
+  std::normal_distribution<double> normal(0.0, 1.0);
+  enum class Shape { power, cauchy, two_gaussians };
+  struct Axis {
+    double lo, hi;
+    Shape shape;
+  };
+  const std::vector<Axis> axes = {{1.0, 4.0, Shape::power},
+                                  {-3.0, -1.0, Shape::power},
+                                  {0.5, 0.5 + std::ldexp(1.0, -30), Shape::power},
+                                  {-1e12, 1e12, Shape::cauchy},
+                                  {-0.2, 1.2, Shape::two_gaussians}};
+  std::vector<double> mixture(1 << 18);
+  for (std::size_t i = 0; i < mixture.size(); ++i)
+    mixture[i] = std::clamp((i % 2 ? 0.3 : 0.7) + 0.08 * normal(random), -0.2, 1.2);
+  std::sort(mixture.begin(), mixture.end());
+  for (const Axis& axis : axes) {
+    for (const int cells : {8, 9, 64, 1000, 2896}) {
+      const double lo = axis.lo, hi = axis.hi, extent = hi - lo;
+      auto quantile = [&](double t) {
+        switch (axis.shape) {
+          case Shape::power: return lo + extent * t * t * t * t;
+          case Shape::cauchy: return std::clamp(std::tan(M_PI * (t - 0.5)), lo, hi);
+          case Shape::two_gaussians: return mixture[std::min(mixture.size() - 1, std::size_t(t * mixture.size()))];
+        }
+        return lo;
+      };
       std::vector<double> bounds(cells + 1);
-      for (int j = 1; j < cells; ++j) {
-        const double t = double(j) / cells;
-        bounds[j] = lo + extent * t * t * t * t;
-      }
+      for (int j = 1; j < cells; ++j) bounds[j] = quantile(double(j) / cells);
       for (int j = 2; j + 1 < cells; j += 7) bounds[j] = bounds[j - 1];  // equal boundaries
-      const int bins = cuda::QuantileGuide::bins_for(cells);
-      std::vector<int> table(bins + 1);
-      for (int k = 0; k <= bins; ++k) table[k] = cuda::QuantileGuide::entry(bounds.data(), cells, bins, lo, extent, k);
-      const int* guide = cuda::quantile_guide_or_none(table.data(), cells, lo, hi);
-      REQUIRE(guide != nullptr);
-      const double inv = cells / extent;  // as make_grid_shape's inv_w
-      std::vector<double> values = {lo, hi, std::nextafter(lo, -HUGE_VAL), std::nextafter(hi, HUGE_VAL), -1e300, 1e300,
-                                    0.0};
+      if (cells == 9) bounds[cells / 2 + 1] = bounds[cells / 2 - 1] = bounds[cells / 2];  // no central width
+      REQUIRE(cuda::quantile_guided(cells));
+      // Both keys must be exact; the one chosen must also narrow.
+      std::vector<int> logarithmic_table, even_table, table;
+      const QuantileGuideKey logarithmic = plan_logarithmic_quantile_guide(bounds.data() + 1, cells, lo, hi);
+      const QuantileGuideKey even = plan_even_quantile_guide(lo, hi, cells);
+      fill_quantile_guide(bounds.data() + 1, cells, logarithmic, logarithmic_table);
+      fill_quantile_guide(bounds.data() + 1, cells, even, even_table);
+      const QuantileGuideKey chosen = build_quantile_guide(bounds.data() + 1, cells, lo, hi, table);
+      for (const auto& t : {logarithmic_table, even_table, table}) REQUIRE(int(t.size()) <= quantile_guide_capacity(cells));
+      const std::array<cuda::QuantileGuide, 3> guides = {cuda::QuantileGuide{logarithmic_table.data(), logarithmic},
+                                                         cuda::QuantileGuide{even_table.data(), even},
+                                                         cuda::QuantileGuide{table.data(), chosen}};
+      const cuda::QuantileGuide& guide = guides[2];
+      const double centre = guide.key.centre;
+      std::vector<double> values = {lo,   hi,   std::nextafter(lo, -HUGE_VAL), std::nextafter(hi, HUGE_VAL), -1e300, 1e300,
+                                    0.0, centre, centre + 1e-310,             centre - 1e-310};
       for (int j = 1; j < cells; ++j)
         values.insert(values.end(), {bounds[j], std::nextafter(bounds[j], -HUGE_VAL), std::nextafter(bounds[j], HUGE_VAL)});
-      for (int k = 0; k <= bins; ++k) {
-        const double edge = lo + extent * k / bins;
-        values.insert(values.end(), {edge, std::nextafter(edge, -HUGE_VAL), std::nextafter(edge, HUGE_VAL)});
+      for (int trial = 0; trial < 20000; ++trial) {
+        const double t = 1.2 * unit(random) - 0.1;  // beyond the axis too
+        values.push_back(t < 0.0 || t > 1.0 ? lo + extent * t : quantile(t));
       }
-      for (int trial = 0; trial < 20000; ++trial) values.push_back(lo + extent * (1.2 * unit(random) - 0.1));
-      std::size_t mismatches = 0;
-      int previous = 0;
+      std::size_t mismatches = 0, steps = 0;
+      std::array<int, 3> previous{};
       std::sort(values.begin(), values.end());
       for (const double v : values) {
         const int plain = cuda::GridView::upper_index(bounds.data(), v, 0, cells - 1);
-        const int guided = cuda::GridView::quantile_index(bounds.data(), cells, guide, (v - lo) * inv, v);
-        mismatches += plain != guided;
-        if (guided < previous) ++mismatches;  // monotone
-        previous = guided;
+        for (std::size_t which = 0; which < guides.size(); ++which) {
+          const int guided = cuda::GridView::quantile_index(bounds.data(), cells, guides[which], v);
+          mismatches += plain != guided;
+          if (guided < previous[which]) ++mismatches;  // monotone
+          previous[which] = guided;
+        }
+        int narrow_lo = 0, narrow_hi = 0;
+        guide.narrow(v, &narrow_lo, &narrow_hi);
+        steps += narrow_hi - narrow_lo;
       }
-      INFO("axis [" << lo << ", " << hi << "], " << cells << " columns, " << values.size() << " values");
+      INFO("axis [" << lo << ", " << hi << "], " << cells << " columns, " << values.size() << " values, the "
+                    << (chosen.logarithmic ? "logarithmic" : "even") << " key chosen, "
+                    << double(steps) / double(values.size()) << " columns left to search on average");
       CHECK(mismatches == 0);
+      // The guide narrows (a table that left the whole axis would pass the check above) for the
+      // shapes inputs have: values placed as the sites are leave a few columns to search. (A
+      // power law at one end of the axis, far from its median, is left to the even key's
+      // bins and may leave more.)
+      if (cells >= 64 && axis.shape != Shape::power) CHECK(double(steps) / double(values.size()) < 4.0);
     }
   }
-  // An axis whose intervals would be a few ulps wide gets no guide.
-  std::vector<int> table(cuda::QuantileGuide::bins_for(1000) + 1, 0);
-  CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75 + 1e-14) == nullptr);
-  CHECK(cuda::quantile_guide_or_none(table.data(), 1000, 0.75, 0.75) == nullptr);
 }
 
 TEST_CASE("CUDA quantile cells: as many columns as rows, whatever the box, no more cells than uniform ones",
