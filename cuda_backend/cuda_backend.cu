@@ -233,6 +233,9 @@ class CudaBackend final : public Backend {
       // The side ring copies while the host's pool faults in the output: fewer threads.
       side_staging_ = std::make_unique<PinnedStaging>(std::size_t{32} << 20, 8);
       ctx_.side_staging = side_staging_.get();
+      int least = 0, greatest = 0;
+      EXPANSE_CUDA(cudaDeviceGetStreamPriorityRange(&least, &greatest));
+      EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.edge_stream, cudaStreamNonBlocking, greatest));
     }
     EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), Context::kPinnedWords * sizeof(unsigned int),
                                cudaHostAllocDefault));
@@ -241,9 +244,10 @@ class CudaBackend final : public Backend {
   ~CudaBackend() override {
     staging_.reset();
     side_staging_.reset();
-    if (ctx_.side_stream) {
-      cudaStreamSynchronize(ctx_.side_stream);
-      cudaStreamDestroy(ctx_.side_stream);
+    for (cudaStream_t extra : {ctx_.side_stream, ctx_.edge_stream}) {
+      if (!extra) continue;
+      cudaStreamSynchronize(extra);
+      cudaStreamDestroy(extra);
     }
     if (ctx_.pinned_words) cudaFreeHost(ctx_.pinned_words);
     if (ctx_.own_stream && ctx_.stream) {

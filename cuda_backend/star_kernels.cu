@@ -37,14 +37,15 @@ namespace {
 /// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
-/// `retry_list` (counters[7] long) takes a first pass's sites that ran past its budget, for the
-/// warps; `undecided_list` (counters[8]) a light first pass's sites that met a candidate only the
-/// exact path decides, for a thread each (star_list_kernel).
+/// `retry_list` (list_counts[0] long) takes a first pass's sites that ran past its budget, for
+/// the warps; `undecided_list` (list_counts[1]) a light first pass's sites that met a candidate
+/// only the exact path decides, for a thread each (star_list_kernel). The lists of the grid's
+/// edge (EdgeCells) are apart from the rest's: counters[7..8] count the rest's, [10..11] the edge's.
 template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list,
-                                                int* undecided_list = nullptr) {
+                                                int* undecided_list, unsigned int* list_counts) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
@@ -72,9 +73,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     owned[i] = 0;
     if (walked_again) {
       if (undecided_list && w.handed_on && cells <= budget)
-        undecided_list[atomicAdd(counters + 8, 1u)] = i;
+        undecided_list[atomicAdd(list_counts + 1, 1u)] = i;
       else
-        retry_list[atomicAdd(counters + 7, 1u)] = i;
+        retry_list[atomicAdd(list_counts, 1u)] = i;
       return;
     }
     if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
@@ -86,38 +87,72 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   owned[i] = owned_triangles(star, inf, i);
 }
 
+/// The sites in the outer `depth` rings of the grid's cells (keys: each local site's cell, sorted).
+/// Their walks are the longest by far: every site that runs past the first pass's budget on a
+/// uniform input lies in the outermost ring (4M sites: 1,325 of them, the costliest 65,536
+/// units, where the first pass allows 1,024), and on kuzmin those of the outermost take 45% of
+/// the second pass's work, at most 65,536 units again against 24,170 one ring further in
+/// (counted on the CPU, session 13). A warp walks such a site alone, and the last one to finish
+/// set the second pass's length: ~9 ms of 48 at 4096^2 uniform (H100, ncu), the rest of the GPU
+/// idle. So these sites take both passes on a stream of their own (Context::edge_stream) of the
+/// highest priority, alongside everyone else's first pass, and their second pass starts early.
+struct EdgeCells {
+  const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
+  int gx = 0, gy = 0, depth = 0;
+
+  EXPANSE_DEVICE_FORCE bool holds(int i) const {
+    if (!keys) return false;
+    const int key = static_cast<int>(keys[i]), y = key / gx, x = key - y * gx;
+    return min(min(x, y), min(gx - 1 - x, gy - 1 - y)) < depth;
+  }
+};
+
+/// list[0 .. *count) = the local sites that `edge` holds.
+__global__ void edge_list_kernel(EdgeCells edge, int n, int* list, unsigned int* count) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n && edge.holds(i)) list[atomicAdd(count, 1u)] = i;
+}
+
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
                                                               const int* order, WalkPass pass, int* retry_list,
-                                                              int* undecided_list) {
+                                                              int* undecided_list, EdgeCells edge) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= n) return;
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
+  if (edge.holds(i)) return;  // edge_star_kernel's
   walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, i, star, info, owned, counters,
-                                                                         budget, pass, retry_list, undecided_list);
+                                                                         budget, pass, retry_list, undecided_list,
+                                                                         counters + 7);
 }
 
-/// The light first pass's undecided sites (counters[8] of them), a thread each, walked in full
-/// (with the exact path) under the first pass's budget; those that run past it go on to the
-/// warps. Nearly cocircular float inputs (decimal grids) send nearly every site here: a warp each
-/// they took 115 ms at 1024^2 (H100, session 12 call 3). Grid-stride, so that a short list (a
-/// uniform input's, usually empty) costs one small launch.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
+/// The sites list[0 .. *count), a thread each, as a first pass walks them: those that run past
+/// `budget` go on to the warps (retry_list), and with the light walk (FirstPass) those that meet
+/// an undecided candidate to undecided_list; list_counts as walk_and_record's. Grid-stride, so
+/// that a short list costs one small launch. Two uses:
+///  - the light first pass's undecided sites, walked in full (with the exact path) under the
+///    first pass's budget. Nearly cocircular float inputs (decimal grids) send nearly every site
+///    here: a warp each they took 115 ms at 1024^2 (H100, session 12 call 3);
+///  - the first pass of the grid's edge (EdgeCells), on its own stream.
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, const int* pred, int* star,
                                                                    std::uint32_t* info, int* owned,
                                                                    unsigned int* counters, unsigned budget,
-                                                                   const int* undecided_list, int* retry_list) {
-  const unsigned count = counters[8];
-  for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < count; k += gridDim.x * blockDim.x)
-    walk_and_record<Search, Walker::thread, ExactLattice>(g, pred, undecided_list[k], star, info, owned, counters,
-                                                          budget, WalkPass::first, retry_list);
+                                                                   const int* list, const unsigned int* count,
+                                                                   int* retry_list, int* undecided_list,
+                                                                   unsigned int* list_counts) {
+  const unsigned sites = *count;
+  for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
+    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, list[k], star, info, owned, counters,
+                                                                     budget, WalkPass::first, retry_list,
+                                                                     undecided_list, list_counts);
 }
 
-/// The second pass: the sites the first listed (counters[7] of them), with the full budget, each
+/// The second pass: the sites a first pass listed (*count of them), with the full budget, each
 /// walked by a whole warp. Measured on the H100 (2026-11-23, uniform 4096^2): packed 32 sites to
 /// a warp the second pass ran 2.7x slower than a single pass (623 against 233 ms), their
 /// divergent searches serialised; one site per warp on one thread still lost (285 against 228
@@ -127,12 +162,12 @@ template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
-                                                                    const int* retry_list) {
-  const unsigned count = counters[7];
+                                                                    const int* retry_list, const unsigned int* count) {
+  const unsigned sites = *count;
   const unsigned warps = gridDim.x * (blockDim.x / 32);
-  for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < count; k += warps)
+  for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
     walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, retry_list[k], star, info, owned, counters, budget,
-                                                        WalkPass::retry, nullptr);
+                                                        WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
 __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
@@ -275,7 +310,7 @@ unsigned box_search_budget(std::size_t sites) {
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
 /// a site).
 std::size_t per_site_bytes() {
-  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 6 * sizeof(int) + kStar * sizeof(int) +
+  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
          2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
@@ -316,7 +351,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  DeviceArray<unsigned int> d_counters(9, stream);
+  DeviceArray<unsigned int> d_counters(12, stream);  // [9..11]: the edge's lists (EdgeCells)
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -400,27 +435,75 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
-        order, WalkPass::only, nullptr, nullptr);
+        order, WalkPass::only, nullptr, nullptr, EdgeCells{});
   } else {
+    // The sites of the grid's outer ring of cells (EdgeCells) take their two passes on the edge
+    // stream while the rest take theirs here; EXPANSE_CUDA_EDGE_DEPTH sets how many rings (0:
+    // none, every site here). Only with a stream of our own (a lent stream keeps all the work)
+    // and two passes in cell order.
+    const char* edge_env = std::getenv("EXPANSE_CUDA_EDGE_DEPTH");
+    const int edge_depth =
+        ctx.edge_stream && two_passes && !order ? (edge_env ? std::max(0, std::atoi(edge_env)) : 1) : 0;
+    const EdgeCells edge =
+        edge_depth > 0 ? EdgeCells{buckets.keys_sorted.get(), g.gx, g.gy, edge_depth} : EdgeCells{};
+    // The edge's site list and its own retry and undecided lists, and their counts in
+    // counters[9..11]: its sites, its retries, its undecided.
+    DeviceArray<int> d_edge(edge_depth > 0 ? 3 * n : 0, stream);
+    int* const edge_sites = d_edge.get();
+    int* const edge_retry = edge_depth > 0 ? edge_sites + n : nullptr;
+    int* const edge_undecided = edge_depth > 0 ? edge_sites + 2 * n : nullptr;
+    unsigned int* const edge_counts = d_counters.get() + 9;
+    const bool light = two_passes && !first_full;
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
+      cudaEvent_t fork = nullptr, join = nullptr;
+      if (edge.keys) {
+        edge_list_kernel<<<blocks_for(n), kThreads, 0, stream>>>(edge, static_cast<int>(n), edge_sites, edge_counts);
+        EXPANSE_CUDA(cudaEventCreateWithFlags(&fork, cudaEventDisableTiming));
+        EXPANSE_CUDA(cudaEventCreateWithFlags(&join, cudaEventDisableTiming));
+        EXPANSE_CUDA(cudaEventRecord(fork, stream));
+        EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, fork));
+        const cudaStream_t es = ctx.edge_stream;
+        if (light) {
+          star_list_kernel<StarSearch::boxes, blocks, exact, true><<<retry_blocks, 128, 0, es>>>(
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
+              edge_counts, edge_retry, edge_undecided, edge_counts + 1);
+          star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
+              edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
+        } else {
+          star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
+              edge_counts, edge_retry, nullptr, edge_counts + 1);
+        }
+        star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
+            edge_counts + 1);
+        EXPANSE_CUDA(cudaEventRecord(join, es));
+      }
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
-      if (two_passes && !first_full) {
+      if (light) {
         star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get(), d_undecided.get());
+            pass_budget, order, pass, d_retry.get(), d_undecided.get(), edge);
         star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-            d_undecided.get(), d_retry.get());
+            d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
       } else {
         star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
             g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get(), nullptr);
+            pass_budget, order, pass, d_retry.get(), nullptr, edge);
       }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
-            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get());
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get(),
+            d_counters.get() + 7);
+      if (edge.keys) {
+        EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
+        EXPANSE_CUDA(cudaEventDestroy(fork));
+        EXPANSE_CUDA(cudaEventDestroy(join));
+      }
     };
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
     if (exact_lattice)
