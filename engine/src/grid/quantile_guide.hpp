@@ -20,9 +20,10 @@
 // rounded, rounding is monotone, and so is the high word of a non-negative double), so
 // bin(b) < bin(v) implies b < v and bin(b) > bin(v) implies b > v. The table counts, for each
 // bin k, the boundaries whose bin is below k; the column of a value in bin k then lies between
-// the counts of bins k and k + 1, with no margin for rounding needed. The host, CUDA and the
-// GLSL twin (shaders/include/quantile_cells.glsl) evaluate the same operations, so a table built
-// on one and read on another still agrees.
+// the counts of bins k and k + 1, with no margin for rounding needed. The host and CUDA evaluate
+// the same operations, so a table built on one and read on the other still agrees. (Vulkan's
+// quantile cells keep the full search: this guide in GLSL made its star shader slower, on
+// lavapipe and on NVIDIA's driver; cuda_backend/results/2026-11-25-h100-s13.)
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -35,8 +36,7 @@
 
 namespace expanse::detail {
 
-/// How an axis' values map to guide bins. Plain data: it travels in kernel parameters, and the
-/// Vulkan backend packs it into a push-constant block.
+/// How an axis' values map to guide bins. Plain data: it travels in kernel parameters.
 struct QuantileGuideKey {
   double centre = 0.0;           ///< logarithmic: the axis' centre; even: the first bin's start
   double scale = 0.0;            ///< even: bins per unit length
@@ -115,7 +115,7 @@ EXPANSE_GUIDE_HD inline QuantileGuideKey plan_even_quantile_guide(double lo, dou
 }
 
 /// An axis' logarithmic key for its cells - 1 ascending boundaries bounds[0 ..): centred on
-/// the median boundary, resolving distances from an eighth of the columns around it out to the
+/// the median boundary, resolving distances from an eighth of a central column out to the
 /// farthest of [lo, hi], with about 2 * cells bins on each side. Needs cells >= 4.
 EXPANSE_GUIDE_HD inline QuantileGuideKey plan_logarithmic_quantile_guide(const double* bounds, int cells, double lo,
                                                                           double hi) {
