@@ -67,6 +67,13 @@ __global__ void first_equal_kernel(const double2* sorted, const std::uint64_t* c
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= n) return;
   const std::uint64_t code = codes[p];
+  // Deep in a run longer than the limit (codes sorted: one look back tells), flag it at once
+  // rather than look back through kMergeRunLimit codes: the hash table decides every point then
+  // (kuzmin 4096^2: most of its points lie in such runs).
+  if (p > kMergeRunLimit && codes[p - kMergeRunLimit - 1] == code) {
+    atomicOr(flags, 1u);
+    return;
+  }
   int begin = p;
   while (begin > 0 && codes[begin - 1] == code && p - begin < kMergeRunLimit) --begin;
   int q = p;
