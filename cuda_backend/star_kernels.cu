@@ -124,7 +124,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   // Thread t walks local site order[t], or t: cell order measured faster than the sites'
   // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
-  if (edge.holds(i)) return;  // edge_star_kernel's
+  if (edge.holds(i)) return;  // the edge stream walks it
   walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, i, star, info, owned, counters,
                                                                          budget, pass, retry_list, undecided_list,
                                                                          counters + 7);
