@@ -62,6 +62,11 @@ layout(constant_id = 7) const bool RETRY = false;
 // that pass registers (lavapipe's classes leave such sites to the seam stage, which is the CPU
 // there anyway).
 layout(constant_id = 8) const bool EXACT_DIFFERENCES = false;
+// The grid's outer ring of cells apart (one class, a device of our own): 1 walks only the sites
+// of those cells, 2 all but them, 0 every site. The ring holds the hull-hugging sites whose walks
+// are the longest by far; dispatched first, with no barrier before the rest's dispatch, they
+// run beside it instead of ending the pass (the CUDA backend's edge stream, in one queue).
+layout(constant_id = 9) const int EDGE_PART = 0;
 
 
 // Sites, cell starts and hull predecessors are read as uniform texel buffers: on lavapipe a
@@ -237,6 +242,11 @@ void main() {
   int s = ((run * (params.pass_mask + 1) + params.pass) << params.pass_shift) + (i - (run << params.pass_shift));
   if (s >= params.site_count) return;
   if (RETRY && uint(site_info[s].x) != STAR_HANDED_ON) return;
+  if (EDGE_PART != 0) {
+    const ivec2 c = cell_of(site_at(s));
+    const bool edge = min(min(c.x, c.y), min(params.cells - 1 - c.x, params.cells - 1 - c.y)) < 1;
+    if (edge != (EDGE_PART == 1)) return;
+  }
   int budget = LOOP_BUDGET;
   ivec2 grid_hi = ivec2(params.cells - 1);
   dvec2 ps = site_at(s);

@@ -292,6 +292,8 @@ class Context {
 
   VkDevice device() const { return device_; }
   VkQueue queue() const { return queue_; }
+  /// Whether the application lent the device (vulkan_interop.hpp).
+  bool borrowed() const { return !owned_; }
   VkCommandPool command_pool() const { return pool_; }
   VkQueryPool query_pool() const { return queries_; }
   std::uint32_t query_capacity() const { return query_capacity_; }

@@ -393,6 +393,10 @@ class VulkanBackend final : public Backend {
   // In one class (GPUs), walk the stars in a light pass without the exact path and retry the
   // sites it hands on (star.comp's EXACT_PATH, RETRY). EXPANSE_VULKAN_LIGHT_PASS=0 walks them in
   // one full pass, for comparisons.
+  static bool edge_first() {
+    const char* env = std::getenv("EXPANSE_VULKAN_EDGE");
+    return !(env && std::strcmp(env, "0") == 0);
+  }
   static bool light_first_pass() {
     const char* env = std::getenv("EXPANSE_VULKAN_LIGHT_PASS");
     return !(env && env[0] == '0');
@@ -956,10 +960,10 @@ class VulkanBackend final : public Backend {
     const bool light = classes == 1 && light_first_pass() && (lattice || !input.sites.integer_coordinates);
     // The retry dispatch also decides incircles from exact coordinate differences (star.comp's
     // EXACT_DIFFERENCES).
-    auto star_spec = [&](bool exact_path, bool retry) {
-      return std::array<std::uint32_t, 9>{wg, star_capacity, loop_budget(true), apex_filters(),
-                                          lattice ? 1u : 0u, frame.quantile ? 1u : 0u, exact_path ? 1u : 0u,
-                                          retry ? 1u : 0u, retry ? 1u : 0u};
+    auto star_spec = [&](bool exact_path, bool retry, std::uint32_t edge_part) {
+      return std::array<std::uint32_t, 10>{wg, star_capacity, loop_budget(true), apex_filters(),
+                                           lattice ? 1u : 0u, frame.quantile ? 1u : 0u, exact_path ? 1u : 0u,
+                                           retry ? 1u : 0u, retry ? 1u : 0u, edge_part};
     };
     const VkDescriptorType texel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -969,13 +973,23 @@ class VulkanBackend final : public Backend {
     TexelView predecessor_view(ctx, predecessor, VK_FORMAT_R32_SINT, bytes_of(n, 4));
     Buffer* bindings[] = {&sites, &cell_start, &predecessor, &triangles, &counters, &stars, &site_info, &cell_bounds};
     const TexelView* texels[] = {&site_view, &cell_view, &predecessor_view, nullptr, nullptr, nullptr, nullptr, nullptr};
-    auto star_kernel = [&](bool exact_path, bool retry) -> Kernel& {
-      const auto spec = star_spec(exact_path, retry);
+    auto star_kernel = [&](bool exact_path, bool retry, std::uint32_t edge_part = 0) -> Kernel& {
+      const auto spec = star_spec(exact_path, retry, edge_part);
       Kernel& k = ctx.kernel("star", spirv::star(), 8, sizeof(StarParams), spec, star_types);
       k.bind(bindings, texels);
       return k;
     };
-    Kernel& kernel = star_kernel(!light, false);
+    // One class on a device of our own: the grid's outer ring first, then the rest with no
+    // barrier between (star.comp's EDGE_PART). EXPANSE_VULKAN_EDGE=0 walks every site in one
+    // dispatch. Not on a lent device: its queue may carry the application's synchronisation
+    // validation, which counts two dispatches writing one buffer as a hazard even where their
+    // sites differ.
+    const bool edge_apart = classes == 1 && !ctx.borrowed() && edge_first();
+    std::vector<Kernel*> first_kernels;
+    if (edge_apart)
+      first_kernels = {&star_kernel(!light, false, 1), &star_kernel(!light, false, 2)};
+    else
+      first_kernels = {&star_kernel(!light, false)};
     Kernel* retry_kernel = light ? &star_kernel(true, true) : nullptr;
     Kernel* links = nullptr;
     if (!in_place) {
@@ -1023,10 +1037,12 @@ class VulkanBackend final : public Backend {
     for (std::uint64_t pass = 0; pass < classes && pass < runs; ++pass) {
       params.pass = std::int32_t(pass);
       const std::uint64_t count = ((runs - pass + classes - 1) / classes) << params.pass_shift;
-      for (std::uint64_t first = 0; first < count; first += max_groups * wg) {
-        params.grid.first = std::int32_t(first);
-        const std::uint64_t left = (count - first + wg - 1) / wg;
-        rec.dispatch(kernel, &params, std::uint32_t(std::min(left, max_groups)));
+      for (Kernel* kernel : first_kernels) {
+        for (std::uint64_t first = 0; first < count; first += max_groups * wg) {
+          params.grid.first = std::int32_t(first);
+          const std::uint64_t left = (count - first + wg - 1) / wg;
+          rec.dispatch(*kernel, &params, std::uint32_t(std::min(left, max_groups)));
+        }
       }
       rec.barrier();
     }
