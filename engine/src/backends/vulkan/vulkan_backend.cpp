@@ -393,13 +393,15 @@ class VulkanBackend final : public Backend {
   // In one class (GPUs), walk the stars in a light pass without the exact path and retry the
   // sites it hands on (star.comp's EXACT_PATH, RETRY). EXPANSE_VULKAN_LIGHT_PASS=0 walks them in
   // one full pass, for comparisons.
-  static bool edge_first() {
-    const char* env = std::getenv("EXPANSE_VULKAN_EDGE");
-    return !(env && std::strcmp(env, "0") == 0);
-  }
   static bool light_first_pass() {
     const char* env = std::getenv("EXPANSE_VULKAN_LIGHT_PASS");
     return !(env && env[0] == '0');
+  }
+  // EXPANSE_VULKAN_EDGE=0: one dispatch for every site's first walk, not the grid's outer ring
+  // of cells apart (star.comp's EDGE_PART), for comparisons.
+  static bool edge_first() {
+    const char* env = std::getenv("EXPANSE_VULKAN_EDGE");
+    return !(env && std::strcmp(env, "0") == 0);
   }
   // log2 of the runs of consecutive ids in one class; EXPANSE_VULKAN_CLASS_SHIFT overrides.
   static int star_class_shift() {
