@@ -4,7 +4,8 @@
 //
 //   upload raw points -> scale -> Morton codes -> sort (stable: input order within a code)
 //     -> merge: a point equal to an earlier one of its run of equal codes joins that one's group
-//     -> compact the groups' first points: the sites, already in Morton order
+//     -> compact the groups' first points: the sites, already in Morton order (and, where points
+//        repeat, every input's representative)
 //     -> download the sites, their input indices, the representatives and the hull's site ids
 //     -> grow_per_site on the sites already on the device
 //
@@ -58,56 +59,56 @@ __global__ void scale_kernel(double2* points, int n, int e, double factor) {
   points[i] = p;
 }
 
+/// flags[0] = 1 where a run of equal Morton codes is longer than kMergeRunLimit + 1: one look
+/// back a position (the codes are sorted). Such a run sends every point through the hash table
+/// (kuzmin at 4096^2: most of its points lie in such runs), and first_equal_kernel is not run:
+/// its look back through the shorter runs around them had cost kuzmin 2.4 ms at 4096^2 on the
+/// H100 for results the hash table then replaced (session 14 call 2).
+__global__ void long_run_kernel(const std::uint64_t* codes, int n, unsigned int* flags) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p]) atomicOr(flags, 1u);
+}
+
 /// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
 /// (p itself if none); head[p] = 1 where that is p. Equal points have equal codes, and within a
 /// run the positions are in input order (the sort is stable), so the first is the smallest input
-/// index. flags[0] is set when a run is longer than kMergeRunLimit (results then void).
-__global__ void first_equal_kernel(const double2* sorted, const std::uint64_t* codes, int n, int* first, int* head,
-                                   unsigned int* flags) {
+/// index. Only where long_run_kernel found no run longer than kMergeRunLimit + 1.
+__global__ void first_equal_kernel(const double2* sorted, const std::uint64_t* codes, int n, int* first, int* head) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= n) return;
   const std::uint64_t code = codes[p];
-  // Deep in a run longer than the limit (codes sorted: one look back tells), flag it at once
-  // rather than look back through kMergeRunLimit codes: the hash table decides every point then
-  // (kuzmin 4096^2: most of its points lie in such runs).
-  if (p > kMergeRunLimit && codes[p - kMergeRunLimit - 1] == code) {
-    atomicOr(flags, 1u);
-    return;
-  }
   int begin = p;
-  while (begin > 0 && codes[begin - 1] == code && p - begin < kMergeRunLimit) --begin;
+  while (begin > 0 && codes[begin - 1] == code) --begin;
   int q = p;
-  if (begin > 0 && codes[begin - 1] == code) {
-    atomicOr(flags, 1u);
-  } else {
-    const double2 v = sorted[p];
-    for (int j = begin; j < p; ++j) {
-      const double2 w = sorted[j];
-      if (w.x == v.x && w.y == v.y) {
-        q = j;
-        break;
-      }
+  const double2 v = sorted[p];
+  for (int j = begin; j < p; ++j) {
+    const double2 w = sorted[j];
+    if (w.x == v.x && w.y == v.y) {
+      q = j;
+      break;
     }
   }
   first[p] = q;
   head[p] = q == p;
 }
 
-/// The heads become the sites, in Morton order: site slot[p] is the point at position p. Every
-/// input index gets its group's site (rank_input) and its group's first input index
-/// (representative).
-__global__ void compact_kernel(const double2* sorted, const int* sorted_input, const int* first, const int* head,
-                               const int* slot, int n, double2* site_points, int* site_input, int* rank_input,
-                               int* representative) {
+/// The heads become the sites, in Morton order: site slot[p] is the point at position p. Reads
+/// and writes in order only: where points repeat, representative_kernel maps every input index
+/// to its group's first (a scatter by input index, which cost 2.6 ms at 4096^2 on the H100 with
+/// the input-to-site map beside it: session 14 call 2).
+__global__ void compact_kernel(const double2* sorted, const int* sorted_input, const int* head, const int* slot, int n,
+                               double2* site_points, int* site_input) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p >= n || !head[p]) return;
+  site_points[slot[p]] = sorted[p];
+  site_input[slot[p]] = sorted_input[p];
+}
+
+/// Every input index gets its group's first input index (only needed where points repeat).
+__global__ void representative_kernel(const int* sorted_input, const int* first, int n, int* representative) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= n) return;
-  const int input = sorted_input[p], f = first[p];
-  if (head[p]) {
-    site_points[slot[p]] = sorted[p];
-    site_input[slot[p]] = input;
-  }
-  rank_input[input] = slot[f];
-  representative[input] = sorted_input[f];
+  representative[sorted_input[p]] = sorted_input[first[p]];
 }
 
 /// p's Morton code, as prepare_sites computes it (the same host-and-device code).
@@ -175,11 +176,27 @@ __global__ void hash_first_kernel(const double2* sorted, int n, const int* table
   }
 }
 
-/// The hull's input indices (representatives) -> site ids.
-__global__ void hull_sites_kernel(const int* hull_input, int h, const int* rank_input, int* hull_sites) {
+/// The hull's input indices -> site ids. Input x lies at the position of the sort whose code is
+/// x's and whose input index is x: the sort is stable, so within a run of equal codes the input
+/// indices ascend, and two binary searches find it (h of them, where an input-to-site map
+/// written for every point had cost a scatter of n).
+__global__ void hull_sites_kernel(const int* hull_input, int h, const double2* raw, Quantiser q,
+                                  const std::uint64_t* codes, const int* sorted_input, int n, const int* first,
+                                  const int* slot, int* hull_sites) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= h) return;
-  hull_sites[t] = rank_input[hull_input[t]];
+  const int x = hull_input[t];
+  const std::uint64_t code = morton(raw[x], q);
+  int lo = 0, hi = n;  // the first position whose (code, input) is not below (code, x)
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    const std::uint64_t c = codes[mid];
+    if (c < code || (c == code && sorted_input[mid] < x))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  hull_sites[t] = slot[first[lo]];
 }
 
 }  // namespace
@@ -191,8 +208,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   if (n >= (std::size_t{1} << 30)) return false;  // the host's path refuses it, with the error
   const Box& bounds = input.scan.bounds;
   // Raw, sorted and site points; codes twice; ids twice, the merge's three arrays, the sites'
-  // input indices, the representatives and the input-to-site map.
-  require_device_memory(n * (3 * sizeof(double2) + 2 * sizeof(std::uint64_t) + 8 * sizeof(int)), n, "points");
+  // input indices and the representatives.
+  require_device_memory(n * (3 * sizeof(double2) + 2 * sizeof(std::uint64_t) + 7 * sizeof(int)), n, "points");
 
   // Every point its own representative, written on another host thread while the device works
   // (the usual case; the device's map replaces it where points repeat).
@@ -224,7 +241,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
 
     DeviceArray<std::uint64_t> d_codes(n, stream), d_codes_sorted(n, stream);
     DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream);
-    DeviceArray<int> d_first(n, stream), d_head(n, stream), d_slot(n, stream), d_rank_input(n, stream);
+    DeviceArray<int> d_first(n, stream), d_head(n, stream), d_slot(n, stream);
     DeviceArray<unsigned int> d_flags(1, stream);
     std::size_t sort_bytes = 0, scan_bytes = 0;
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_codes.get(), d_codes_sorted.get(), d_ids.get(),
@@ -254,14 +271,16 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
 
     timer.begin("merge duplicates");
     EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, sizeof(unsigned int), stream));
-    first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
-                                                               static_cast<int>(n), d_first.get(), d_head.get(),
-                                                               d_flags.get());
+    long_run_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), static_cast<int>(n), d_flags.get());
     EXPANSE_CUDA(cudaGetLastError());
     unsigned int* const words = ctx.pinned_words;
     EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
-    if (words[0] != 0) {
+    if (words[0] == 0) {
+      first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
+                                                                 static_cast<int>(n), d_first.get(), d_head.get());
+      EXPANSE_CUDA(cudaGetLastError());
+    } else {
       // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
       // finer than the quantisation): equal points found through a hash table of all points,
       // at most half full.
@@ -279,10 +298,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     temp_bytes = d_temp.bytes();
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(d_temp.get(), temp_bytes, d_head.get(), d_slot.get(),
                                                static_cast<int>(n), stream));
-    compact_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_sorted_ids.get(), d_first.get(),
-                                                           d_head.get(), d_slot.get(), static_cast<int>(n),
-                                                           d_site_points.get(), d_site_input.get(),
-                                                           d_rank_input.get(), d_representative.get());
+    compact_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_sorted_ids.get(), d_head.get(),
+                                                           d_slot.get(), static_cast<int>(n), d_site_points.get(),
+                                                           d_site_input.get());
     EXPANSE_CUDA(cudaGetLastError());
     // How many sites: the last slot plus the last head.
     EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_slot.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
@@ -297,11 +315,18 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     DeviceArray<int> d_hull_input(h, stream);
     d_hull_sites.emplace(h, stream);
     ctx.staging->upload(d_hull_input.get(), hull_input->data(), h * sizeof(int), stream);
-    hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(d_hull_input.get(), static_cast<int>(h),
-                                                              d_rank_input.get(), d_hull_sites->get());
+    hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(
+        d_hull_input.get(), static_cast<int>(h), d_raw.get(), quantiser, d_codes_sorted.get(), d_sorted_ids.get(),
+        static_cast<int>(n), d_first.get(), d_slot.get(), d_hull_sites->get());
     EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
     m = static_cast<std::size_t>(words[1]) + words[2];
+    if (m < n) {  // points repeat: the host needs every input's representative
+      representative_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_first.get(),
+                                                                    static_cast<int>(n), d_representative.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    }
   }
 
   // The host's copy of what it prepared: the seam stage and the output need the sites, the

@@ -37,27 +37,4 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
-/// Index of the CCW triangle (x, y, z) in the output: its owner is its smallest vertex, and the
-/// owner numbers its own triangles in star order from offset[owner]. -1 if the owner deferred.
-EXPANSE_DEVICE int triangle_index(const int* star, const std::uint32_t* info, const int* offset,
-                                     int x, int y, int z) {
-  int o = x, u = y, w = z;
-  if (y < o && y < z) {
-    o = y, u = z, w = x;
-  } else if (z < o && z < y) {
-    o = z, u = x, w = y;
-  }
-  const std::uint32_t inf = info[o];
-  if (star_deferred(inf)) return -1;
-  const int deg = star_degree(inf);
-  const int tris = star_closed(inf) ? deg : deg - 1;
-  int count = 0;
-  for (int t = 0; t < tris; ++t) {
-    const int a = star_at(star, inf, o, t), b = star_at(star, inf, o, t + 1);
-    if (a == u) return b == w ? offset[o] + count : -1;
-    if (o < a && o < b) ++count;
-  }
-  return -1;
-}
-
 }  // namespace expanse::detail::cuda

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <future>
 #include <memory>
+#include <optional>
 #include <type_traits>
 
 #include "cuda_internal.hpp"
@@ -170,53 +171,105 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
                                                         WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
-__global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::uint32_t* info,
-                                                   const int* offset, const int* sorted_ids, int n,
-                                                   bool with_neighbors, int capacity, int* triangles,
-                                                   int* neighbors) {
+/// The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
+/// then a thread per triangle: one thread a site, linking each of its triangles by searching the
+/// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
+/// ncu (H100, session 14 call 2), its loops as uneven as the stars.
+///
+/// emit_triangles_kernel: site i's owned triangles (it is their smallest vertex), in site ids, at
+/// offset[i] on; owned[i] the bitmask of its star's triangles it owns (bit t: the triangle (i,
+/// star t, star t + 1)), so that any triangle's output index is its owner's offset plus the
+/// owned triangles before it in the owner's star. With neighbours, each triangle's slot of
+/// `neighbors` holds its owner and star position until emit_neighbors_kernel replaces them.
+/// Past `capacity` (more triangles than a triangulation has: a broken walk, which the host then
+/// reports) no triangle is written.
+__global__ void __launch_bounds__(128) emit_triangles_kernel(const int* star, const std::uint32_t* info,
+                                                             const int* offset, const int* sorted_ids, int n,
+                                                             bool with_neighbors, int capacity, int* triangles,
+                                                             int* neighbors, std::uint32_t* owned) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const std::uint32_t inf = info[i];
   if (star_deferred(inf)) return;
   int out = offset[i];
-  // Past `capacity` (more triangles than a triangulation has: a broken walk, which the host
-  // then reports) nothing is written.
-  if (out == offset[i + 1] || offset[i + 1] > capacity) return;
+  const bool write = out != offset[i + 1] && offset[i + 1] <= capacity;
+  const int deg = star_degree(inf);
+  const int tris = star_closed(inf) ? deg : deg - 1;
+  const int id = sorted_ids[i];
+  std::uint32_t mask = 0;
+  int a = star_at(star, inf, i, 0);
+  for (int t = 0; t < tris; ++t) {
+    const int b = star_at(star, inf, i, t + 1);
+    if (i < a && i < b) {
+      mask |= 1u << t;
+      if (write) {
+        int* tri = triangles + 3 * static_cast<std::size_t>(out);
+        tri[0] = id;
+        tri[1] = sorted_ids[a];
+        tri[2] = sorted_ids[b];
+        if (with_neighbors) {
+          neighbors[3 * static_cast<std::size_t>(out)] = i;
+          neighbors[3 * static_cast<std::size_t>(out) + 1] = t;
+        }
+      }
+      ++out;
+    }
+    a = b;
+  }
+  owned[i] = mask;
+}
+
+/// Index of the CCW triangle (x, y, z) in the output: its owner o is its smallest vertex, and
+/// (o, u, w) is the triangle at u's position q in o's star; -1 if o deferred (or the stars
+/// disagree, which the audit then reports).
+__device__ int triangle_index(const int* star, const std::uint32_t* info, const int* offset,
+                              const std::uint32_t* owned, int x, int y, int z) {
+  int o = x, u = y, w = z;
+  if (y < o && y < z) {
+    o = y, u = z, w = x;
+  } else if (z < o && z < y) {
+    o = z, u = x, w = y;
+  }
+  const std::uint32_t inf = info[o];
+  if (star_deferred(inf)) return -1;
+  const int q = star_find(star, inf, o, u);
+  const int tris = star_closed(inf) ? star_degree(inf) : star_degree(inf) - 1;
+  if (q < 0 || q >= tris || star_at(star, inf, o, q + 1) != w) return -1;
+  return offset[o] + __popc(owned[o] & ((1u << q) - 1u));
+}
+
+/// Triangle k's three neighbours (-1 where there is none, or its owner deferred), in place of
+/// its owner and star position: neighbour j lies across the edge opposite vertex j.
+__global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
+                                                             const int* offset, const std::uint32_t* owned, int n,
+                                                             int capacity, int* neighbors) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  const int total = offset[n];
+  if (k >= total || total > capacity) return;
+  int* nb = neighbors + 3 * static_cast<std::size_t>(k);
+  const int i = nb[0], t = nb[1];
+  const std::uint32_t inf = info[i];
   const int deg = star_degree(inf);
   const bool closed = star_closed(inf);
-  const int tris = closed ? deg : deg - 1;
-  for (int t = 0; t < tris; ++t) {
-    const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
-    if (!(i < a && i < b)) continue;
-    int* tri = triangles + 3 * static_cast<std::size_t>(out);
-    tri[0] = sorted_ids[i];
-    tri[1] = sorted_ids[a];
-    tri[2] = sorted_ids[b];
-    if (with_neighbors) {
-      int across_ab = -1;  // opposite i: the triangle (b, a, r)
-      int r = -1;
-      const std::uint32_t ia = info[a], ib = info[b];
-      if (!star_deferred(ia)) {
-        const int p = star_find(star, ia, a, b);
-        if (p >= 0 && (p > 0 || star_closed(ia))) r = star_at(star, ia, a, p - 1);
-      } else if (!star_deferred(ib)) {
-        const int q = star_find(star, ib, b, a);
-        if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) r = star_at(star, ib, b, q + 1);
-      }
-      if (r >= 0) across_ab = triangle_index(star, info, offset, b, a, r);
-      int across_bi = -1;  // opposite a: (i, b, next)
-      if (closed || t + 2 < deg)
-        across_bi = triangle_index(star, info, offset, i, b, star_at(star, inf, i, t + 2));
-      int across_ia = -1;  // opposite b: (i, previous, a)
-      if (closed || t >= 1)
-        across_ia = triangle_index(star, info, offset, i, star_at(star, inf, i, t - 1), a);
-      int* nb = neighbors + 3 * static_cast<std::size_t>(out);
-      nb[0] = across_ab;
-      nb[1] = across_bi;
-      nb[2] = across_ia;
-    }
-    ++out;
+  const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
+  int across_ab = -1;  // opposite i: the triangle (b, a, r)
+  int r = -1;
+  const std::uint32_t ia = info[a], ib = info[b];
+  if (!star_deferred(ia)) {
+    const int p = star_find(star, ia, a, b);
+    if (p >= 0 && (p > 0 || star_closed(ia))) r = star_at(star, ia, a, p - 1);
+  } else if (!star_deferred(ib)) {
+    const int q = star_find(star, ib, b, a);
+    if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) r = star_at(star, ib, b, q + 1);
   }
+  if (r >= 0) across_ab = triangle_index(star, info, offset, owned, b, a, r);
+  int across_bi = -1;  // opposite a: (i, b, next)
+  if (closed || t + 2 < deg) across_bi = triangle_index(star, info, offset, owned, i, b, star_at(star, inf, i, t + 2));
+  int across_ia = -1;  // opposite b: (i, previous, a)
+  if (closed || t >= 1) across_ia = triangle_index(star, info, offset, owned, i, star_at(star, inf, i, t - 1), a);
+  nb[0] = across_ab;
+  nb[1] = across_bi;
+  nb[2] = across_ia;
 }
 
 /// The host audit's checks (seam/adjacency_audit.cpp) where the adjacency is made, before it
@@ -227,7 +280,7 @@ __global__ void __launch_bounds__(128) emit_kernel(const int* star, const std::u
 /// and where they are (3 t + k: triangle t's link k) in open_slots.
 /// Random reads of 805 MB take the host's cores ~300 ms at 4096^2; the device's memory, 0.4 ms.
 __global__ void audit_kernel(const int* triangles, const int* neighbors, int count, const int* rank, const int* pred,
-                             unsigned int* result, std::uint64_t* open_keys, int* open_slots) {
+                             unsigned int* result, std::uint64_t* open_keys, int* open_slots, unsigned open_room) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= count) return;
   unsigned bad = 0, open = 0;
@@ -240,8 +293,10 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
         ++open;
         if (open_keys) {
           const unsigned at = atomicAdd(result + 2, 1u);
-          open_keys[at] = (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
-          open_slots[at] = 3 * t + k;
+          if (at < open_room) {  // past it only counted: the host lists them again with room for all
+            open_keys[at] = (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
+            open_slots[at] = 3 * t + k;
+          }
         }
       }
       continue;
@@ -262,12 +317,15 @@ __global__ void audit_kernel(const int* triangles, const int* neighbors, int cou
 
 /// Open edges in pairs: x->y open in one triangle and y->x in another. Both triangles are made
 /// (every triangle emitted is Delaunay), but the sites whose stars would have linked them
-/// deferred, so emit_kernel left both links out. They are neighbours: link them, both ways.
-/// `sorted` holds every open edge, sorted, and `slots` where each is. result[3] counts the links
-/// made; result[0] an edge listed twice (two triangles with the same edge the same way round:
-/// a broken triangulation, which the pipeline must not trust).
+/// deferred, so emit_neighbors_kernel left both links out. They are neighbours: link them, both
+/// ways. `sorted` holds every open edge, sorted, and `slots` where each is. result[3] counts the
+/// links made; result[0] an edge listed twice (two triangles with the same edge the same way
+/// round: a broken triangulation, which the pipeline must not trust). An edge without its
+/// reverse stays open: its slot goes to still_open (result[2] counting), for the seam stage.
+/// The links pair edges that the audit found open and leave every other link as the audit
+/// passed it, so the adjacency needs no second audit.
 __global__ void link_open_pairs_kernel(const std::uint64_t* sorted, const int* slots, unsigned count, int* neighbors,
-                                       unsigned int* result) {
+                                       unsigned int* result, int* still_open) {
   const unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= count) return;
   if (k + 1 < count && sorted[k + 1] == sorted[k]) atomicAdd(result, 1u);
@@ -281,6 +339,8 @@ __global__ void link_open_pairs_kernel(const std::uint64_t* sorted, const int* s
   if (lo < count && sorted[lo] == reverse) {
     neighbors[slots[k]] = slots[lo] / 3;
     atomicAdd(result + 3, 1u);
+  } else {
+    still_open[atomicAdd(result + 2, 1u)] = slots[k];
   }
 }
 
@@ -295,7 +355,17 @@ constexpr int kThreads = 256;
 /// 5.1 / 5.4 ms (uniform / gaussian / grid / kuzmin) against 8.7 / 7.8 / 5.2 / 6.0 at 2^10; at
 /// 4096^2 it lost (gaussian 130 against 104, kuzmin 259 against 148; 2^9: 98 / 105 / 330 / 166
 /// against 100 / 104 / 330 / 148), session 5 call 4. Between the two sizes it is not measured.
-unsigned first_pass_budget(std::size_t sites) { return sites <= (std::size_t{1} << 18) ? 1u << 8 : 1u << 10; }
+/// On quantile cells (clustered inputs) 2^11 above 2^20 sites: kuzmin's searches in the cells
+/// its Cauchy marginals stretch run a little past 2^10 by the ten thousand (counted on the CPU,
+/// 4M sites: 13,451 of the 22,434 over 2^10 need at most 2^11), and a warp walks each again from
+/// the start. H100, star kernels, alternated (session 14 calls 2-3): kuzmin 4096^2 81.6 -> 77.5
+/// ms, 2048^2 22.0-23.2 -> 21.2-21.5, but 1024^2 7.3-7.5 -> 7.9-8.3; gaussian 4096^2 62.7 ->
+/// 62.3, 2048^2 23.45 -> 23.75. Uniform inputs, on uniform cells, had lost 2% (session 13
+/// call 2).
+unsigned first_pass_budget(std::size_t sites, bool quantile_cells) {
+  if (sites <= (std::size_t{1} << 18)) return 1u << 8;
+  return quantile_cells && sites > (std::size_t{1} << 20) ? 1u << 11 : 1u << 10;
+}
 /// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
 /// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes
 /// their triangles for less: budget 2^13 against 2^16 (H100, 2026-11-24, session 6 call 4, star
@@ -411,10 +481,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
   const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : input.sites.integer_coordinates ? 6 : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
-  // first_pass_budget(n) (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
+  // first_pass_budget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
-  const unsigned first_budget =
-      rings ? 0u : first_env ? static_cast<unsigned>(std::strtoul(first_env, nullptr, 10)) : first_pass_budget(n);
+  const unsigned first_budget = rings       ? 0u
+                                : first_env ? static_cast<unsigned>(std::strtoul(first_env, nullptr, 10))
+                                            : first_pass_budget(n, !buckets.uniform());
   const bool two_passes = first_budget > 0 && first_budget < budget;
   // EXPANSE_CUDA_ORDER=morton runs the threads in the sites' Morton order (prepare_sites sorts
   // them so; rank maps a site to its local id) instead of cell order.
@@ -539,9 +610,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_triangles(3 * full, stream);
   DeviceArray<int> d_neighbors(with_neighbors ? 3 * full : 0, stream);
   timer.begin("emit");
-  emit_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids,
-                                                      static_cast<int>(n), with_neighbors, static_cast<int>(full),
-                                                      d_triangles.get(), d_neighbors.get());
+  // The owned counts are scanned: their array takes each site's owned bitmask now.
+  std::uint32_t* const d_owned_mask = reinterpret_cast<std::uint32_t*>(d_owned.get());
+  emit_triangles_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(
+      d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids, static_cast<int>(n), with_neighbors,
+      static_cast<int>(full), d_triangles.get(), d_neighbors.get(), d_owned_mask);
+  if (with_neighbors && full > 0)
+    emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(),
+                                                                     d_owned_mask, static_cast<int>(n),
+                                                                     static_cast<int>(full), d_neighbors.get());
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
@@ -580,20 +657,25 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                                              " sites has (" + std::to_string(full) + ")");
   const std::size_t triangle_bytes = 3 * triangle_count * sizeof(int);
   // The audit, on the device. Open edges inside the hull (left by deferred sites) are rare:
-  // counted first, then listed, sorted and matched against their reverses.
+  // listed as the audit finds them, then sorted and matched against their reverses.
   bool audited = false;
   std::size_t open_pairs_linked = 0;
   if (with_neighbors && triangle_count > 0) {
     timer.begin("audit");
-    // Counts into d_counters[0..1]; with open_keys, lists the open edges too (d_counters[2]).
-    auto audit = [&](std::uint64_t* open_keys, int* open_slots) {
+    // Counts into d_counters[0..1] and lists up to `room` open edges (d_counters[2] counting).
+    auto audit = [&](std::uint64_t* open_keys, int* open_slots, std::size_t room) {
       audit_kernel<<<blocks_for(triangle_count), kThreads, 0, stream>>>(
           d_triangles.get(), d_neighbors.get(), static_cast<int>(triangle_count), d_rank.get(), d_pred.get(),
-          d_counters.get(), open_keys, open_slots);
+          d_counters.get(), open_keys, open_slots, static_cast<unsigned>(room));
       EXPANSE_CUDA(cudaGetLastError());
     };
+    // Room for the open edges of a few thousand deferred sites (at 4096^2: 93 uniform, 41 kuzmin);
+    // more are listed by a second audit, with room for all.
+    const std::size_t room = std::min<std::size_t>(3 * triangle_count, std::size_t{1} << 18);
+    DeviceArray<std::uint64_t> d_open(room, stream), d_open_sorted(room, stream);
+    DeviceArray<int> d_slots(room, stream), d_slots_sorted(room, stream);
     EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-    audit(nullptr, nullptr);
+    audit(d_open.get(), d_slots.get(), room);
     EXPANSE_CUDA(cudaMemcpyAsync(&words[8], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                  stream));
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
@@ -601,39 +683,43 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     audited = bad == 0 && open == 0;
     if (bad == 0 && open > 0) {
       // Open edges inside the hull: listed with where they are, sorted, and the pairs linked.
-      DeviceArray<std::uint64_t> d_open(open, stream), d_open_sorted(open, stream);
-      DeviceArray<int> d_slots(open, stream), d_slots_sorted(open, stream);
-      audit(d_open.get(), d_slots.get());
+      std::uint64_t *keys = d_open.get(), *keys_sorted = d_open_sorted.get();
+      int *slots = d_slots.get(), *slots_sorted = d_slots_sorted.get();
+      std::optional<DeviceArray<std::uint64_t>> all_keys, all_keys_sorted;
+      std::optional<DeviceArray<int>> all_slots, all_slots_sorted;
+      if (open > room) {
+        keys = all_keys.emplace(open, stream).get();
+        keys_sorted = all_keys_sorted.emplace(open, stream).get();
+        slots = all_slots.emplace(open, stream).get();
+        slots_sorted = all_slots_sorted.emplace(open, stream).get();
+        EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
+        audit(keys, slots, open);
+      }
       std::size_t bytes = 0;
-      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, d_open.get(), d_open_sorted.get(), d_slots.get(),
-                                                   d_slots_sorted.get(), static_cast<int>(open), 0, 64, stream));
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, keys_sorted, slots, slots_sorted,
+                                                   static_cast<int>(open), 0, 64, stream));
       DeviceArray<unsigned char> d_sort_temp(bytes, stream);
-      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_sort_temp.get(), bytes, d_open.get(), d_open_sorted.get(),
-                                                   d_slots.get(), d_slots_sorted.get(), static_cast<int>(open), 0, 64,
-                                                   stream));
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_sort_temp.get(), bytes, keys, keys_sorted, slots, slots_sorted,
+                                                   static_cast<int>(open), 0, 64, stream));
+      // What stays open (no reverse) is listed for the seam stage, which would otherwise read
+      // all the links to find it: into `slots`, free again.
       EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-      link_open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(d_open_sorted.get(), d_slots_sorted.get(), open,
-                                                                       d_neighbors.get(), d_counters.get());
+      link_open_pairs_kernel<<<blocks_for(open), kThreads, 0, stream>>>(keys_sorted, slots_sorted, open,
+                                                                       d_neighbors.get(), d_counters.get(), slots);
       EXPANSE_CUDA(cudaGetLastError());
-      // The audit again, over the linked adjacency: what is open now must be the unpaired rest,
-      // listed for the seam stage (which would otherwise read all the links to find them).
       EXPANSE_CUDA(cudaMemcpyAsync(&words[10], d_counters.get(), 4 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
                                    stream));
-      EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
-      audit(d_open.get(), d_slots.get());
-      EXPANSE_CUDA(cudaMemcpyAsync(&words[14], d_counters.get(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost,
-                                   stream));
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
-      const unsigned duplicates = words[10], linked = words[13], bad_after = words[14], open_after = words[15];
-      audited = duplicates == 0 && bad_after == 0 && open_after + linked == open;
+      const unsigned duplicates = words[10], open_after = words[12], linked = words[13];
+      audited = duplicates == 0 && open_after + linked == open;
       open_pairs_linked = linked / 2;
       if (audited) {
-        std::vector<int> slots(open_after);
-        EXPANSE_CUDA(cudaMemcpyAsync(slots.data(), d_slots.get(), open_after * sizeof(int), cudaMemcpyDeviceToHost,
+        std::vector<int> still_open(open_after);
+        EXPANSE_CUDA(cudaMemcpyAsync(still_open.data(), slots, open_after * sizeof(int), cudaMemcpyDeviceToHost,
                                      stream));
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
-        std::sort(slots.begin(), slots.end());  // listed in the atomics' order; the seam's is the triangles'
-        partial.open_slots.emplace(slots.begin(), slots.end());
+        std::sort(still_open.begin(), still_open.end());  // in the atomics' order; the seam's is the triangles'
+        partial.open_slots.emplace(still_open.begin(), still_open.end());
       }
     } else if (audited) {
       partial.open_slots.emplace();  // nothing open
