@@ -179,14 +179,11 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
 /// emit_triangles_kernel: site i's owned triangles (it is their smallest vertex), in site ids, at
 /// offset[i] on; owned[i] the bitmask of its star's triangles it owns (bit t: the triangle (i,
 /// star t, star t + 1)), so that any triangle's output index is its owner's offset plus the
-/// owned triangles before it in the owner's star. With neighbours, each triangle's slot of
-/// `neighbors` holds its owner and star position until emit_neighbors_kernel replaces them.
-/// Past `capacity` (more triangles than a triangulation has: a broken walk, which the host then
-/// reports) no triangle is written.
+/// owned triangles before it in the owner's star. Past `capacity` (more triangles than a
+/// triangulation has: a broken walk, which the host then reports) no triangle is written.
 __global__ void __launch_bounds__(128) emit_triangles_kernel(const int* star, const std::uint32_t* info,
                                                              const int* offset, const int* sorted_ids, int n,
-                                                             bool with_neighbors, int capacity, int* triangles,
-                                                             int* neighbors, std::uint32_t* owned) {
+                                                             int capacity, int* triangles, std::uint32_t* owned) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const std::uint32_t inf = info[i];
@@ -207,10 +204,6 @@ __global__ void __launch_bounds__(128) emit_triangles_kernel(const int* star, co
         tri[0] = id;
         tri[1] = sorted_ids[a];
         tri[2] = sorted_ids[b];
-        if (with_neighbors) {
-          neighbors[3 * static_cast<std::size_t>(out)] = i;
-          neighbors[3 * static_cast<std::size_t>(out) + 1] = t;
-        }
       }
       ++out;
     }
@@ -238,16 +231,19 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
   return offset[o] + __popc(owned[o] & ((1u << q) - 1u));
 }
 
-/// Triangle k's three neighbours (-1 where there is none, or its owner deferred), in place of
-/// its owner and star position: neighbour j lies across the edge opposite vertex j.
+/// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
+/// lies across the edge opposite vertex j. Its owner is its first vertex (rank: site id -> local
+/// id), and its place in the owner's star the owned bit of its rank among the owner's triangles.
 __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
-                                                             const int* offset, const std::uint32_t* owned, int n,
+                                                             const int* offset, const std::uint32_t* owned,
+                                                             const int* triangles, const int* rank, int n,
                                                              int capacity, int* neighbors) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   const int total = offset[n];
   if (k >= total || total > capacity) return;
+  const int i = rank[triangles[3 * static_cast<std::size_t>(k)]];
+  const int t = static_cast<int>(__fns(owned[i], 0, k - offset[i] + 1));
   int* nb = neighbors + 3 * static_cast<std::size_t>(k);
-  const int i = nb[0], t = nb[1];
   const std::uint32_t inf = info[i];
   const int deg = star_degree(inf);
   const bool closed = star_closed(inf);
@@ -612,13 +608,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   timer.begin("emit");
   // The owned counts are scanned: their array takes each site's owned bitmask now.
   std::uint32_t* const d_owned_mask = reinterpret_cast<std::uint32_t*>(d_owned.get());
-  emit_triangles_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(
-      d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids, static_cast<int>(n), with_neighbors,
-      static_cast<int>(full), d_triangles.get(), d_neighbors.get(), d_owned_mask);
+  emit_triangles_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(),
+                                                                d_sorted_ids, static_cast<int>(n),
+                                                                static_cast<int>(full), d_triangles.get(), d_owned_mask);
   if (with_neighbors && full > 0)
-    emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(),
-                                                                     d_owned_mask, static_cast<int>(n),
-                                                                     static_cast<int>(full), d_neighbors.get());
+    emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(
+        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, d_triangles.get(), d_rank.get(),
+        static_cast<int>(n), static_cast<int>(full), d_neighbors.get());
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 

@@ -160,8 +160,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   const CellBox whole{0, 0, g.gx - 1, g.gy - 1};
   int phase = nearest;
   DeferReason reason = DeferReason::undecided;
-  // The edge searched, a->b (the nearest-neighbour search has a = b = s).
-  int ia = i, ib = i;
+  // The edge searched, a->b (the nearest-neighbour search has a = b = s): s->v counter-clockwise,
+  // v->s clockwise, so its ends are always i and v (v = -1 in the nearest-neighbour search).
   double2 pa = ps, pb = ps;
   int best = -1;
   double2 best_p = ps;
@@ -255,7 +255,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie > 0 ? 1 : 0;
       }
       predicates += phase != nearest ? 1u + (k > 0.0 && best >= 0) : 0u;
-      if (ip == ia || ip == ib || ip == best) verdict = 0;
+      if (ip == i || ip == v || ip == best) verdict = 0;
       return verdict;
     }
     if (phase == nearest) {
@@ -274,7 +274,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     // a, b and the best are never candidates. No filter rejects them (each is a zero
     // orientation, incircle or distance, or the best's own distance), so only a flagged
     // candidate needs the test.
-    if (verdict != 0 && (ip == ia || ip == ib || ip == best)) verdict = 0;
+    if (verdict != 0 && (ip == i || ip == v || ip == best)) verdict = 0;
     return verdict;
   };
   // What the thread does with a flagged candidate: take it if better, and leave the
@@ -513,7 +513,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         phase = deferred;
       } else {
         if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
-        (phase == ccw ? w.ccw : w.cw) += 1;
+        if (phase == ccw)
+          ++w.ccw;
+        else
+          ++w.cw;
         v = c;
       }
       if (phase == ccw && pred_s == v) {
@@ -524,8 +527,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       if (phase >= done) break;
       // The next edge: s->v counter-clockwise, v->s clockwise.
       const double2 pv = load_site(g.points, v);
-      ia = phase == ccw ? i : v;
-      ib = phase == ccw ? v : i;
       pa = phase == ccw ? ps : pv;
       pb = phase == ccw ? pv : ps;
       best = -1;
@@ -557,7 +558,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       break;
     }
     const int ip = pending;
-    const int verdict = decide_exactly(g.points, phase == nearest, i, ia, ib, best, ip);
+    const int verdict = decide_exactly(g.points, phase == nearest, i, phase == cw ? v : i, phase == cw ? i : v, best, ip);
     if (verdict == 2) {
       reason = DeferReason::undecided;
       break;
