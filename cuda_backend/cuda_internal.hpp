@@ -137,6 +137,7 @@ struct RunCounters {
   std::uint64_t sites_over_4096_cells = 0;  ///< stars that visited more than 4096 buckets
   std::uint64_t sites_over_budget = 0;      ///< stars deferred because their search ran away
   std::uint64_t open_pairs_linked = 0;      ///< edges between two deferred sites' triangles, linked
+  std::uint64_t open_edges = 0;             ///< edges the device audit found open inside the hull
   bool uniform_cells = false;               ///< the evenness test chose uniform cells
 };
 RunCounters& last_run_counters();

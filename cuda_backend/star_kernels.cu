@@ -655,7 +655,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // The audit, on the device. Open edges inside the hull (left by deferred sites) are rare:
   // listed as the audit finds them, then sorted and matched against their reverses.
   bool audited = false;
-  std::size_t open_pairs_linked = 0;
+  std::size_t open_pairs_linked = 0, open_edges = 0;
   if (with_neighbors && triangle_count > 0) {
     timer.begin("audit");
     // Counts into d_counters[0..1] and lists up to `room` open edges (d_counters[2] counting).
@@ -666,8 +666,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       EXPANSE_CUDA(cudaGetLastError());
     };
     // Room for the open edges of a few thousand deferred sites (at 4096^2: 93 uniform, 41 kuzmin);
-    // more are listed by a second audit, with room for all.
-    const std::size_t room = std::min<std::size_t>(3 * triangle_count, std::size_t{1} << 18);
+    // more are listed by a second audit, with room for all. EXPANSE_CUDA_AUDIT_ROOM sets the
+    // room (tests take the second audit's path with it).
+    const char* room_env = std::getenv("EXPANSE_CUDA_AUDIT_ROOM");
+    const std::size_t room = std::min<std::size_t>(
+        3 * triangle_count, room_env ? std::strtoul(room_env, nullptr, 10) : std::size_t{1} << 18);
     DeviceArray<std::uint64_t> d_open(room, stream), d_open_sorted(room, stream);
     DeviceArray<int> d_slots(room, stream), d_slots_sorted(room, stream);
     EXPANSE_CUDA(cudaMemsetAsync(d_counters.get(), 0, 4 * sizeof(unsigned int), stream));
@@ -676,6 +679,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                                  stream));
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
     const unsigned bad = words[8], open = words[9];
+    open_edges = open;
     audited = bad == 0 && open == 0;
     if (bad == 0 && open > 0) {
       // Open edges inside the hull: listed with where they are, sorted, and the pairs linked.
@@ -752,6 +756,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   RunCounters& counters = last_run_counters();
   counters = {};
   counters.open_pairs_linked = open_pairs_linked;
+  counters.open_edges = open_edges;
   std::uint64_t predicates = 0;
   std::memcpy(&predicates, &sizes[3], sizeof predicates);
   counters.predicates = predicates;

@@ -275,9 +275,13 @@ int main(int argc, char** argv) {
   }
 
   // Deferred sites leave edges open from both sides (both ends deferred): the device links such
-  // pairs, and the adjacency it keeps must be exactly what the host audit accepts.
-  {
-    const std::string test = "open pairs linked, work budget 150, uniform n=20000";
+  // pairs, and the adjacency it keeps must be exactly what the host audit accepts. The audit
+  // lists the open edges as it finds them; with room for fewer than there are, a second audit
+  // lists them all (EXPANSE_CUDA_AUDIT_ROOM=8).
+  for (const char* room : {"", "8"}) {
+    const std::string test = std::string("open pairs linked, work budget 150, uniform n=20000") +
+                             (*room ? std::string(", audit room ") + room : std::string());
+    if (*room) setenv("EXPANSE_CUDA_AUDIT_ROOM", room, 1);
     setenv("EXPANSE_CUDA_BUDGET", "150", 1);
     setenv("EXPANSE_CUDA_FIRST_BUDGET", "0", 1);
     try {
@@ -289,16 +293,20 @@ int main(int argc, char** argv) {
       check_partial(test, sites, hull, r.partial, false, false);
       if (r.partial.deferred_expansions == 0) fail(test, "nothing deferred: the case tests nothing");
       if (c.open_pairs_linked == 0) fail(test, "no open pair linked");
+      if (*room && c.open_edges <= std::strtoull(room, nullptr, 10))
+        fail(test, "the open edges fit the room: the second audit is not exercised");
       if (!r.adjacency_audited || r.partial.neighbors.empty()) fail(test, "device audit failed after linking");
       if (!detail::adjacency_is_trustworthy(r.partial, hull)) fail(test, "host audit rejects the linked adjacency");
       if (failures == before)
-        std::printf("ok   %s: %zu deferred, %llu pairs linked\n", test.c_str(), r.partial.deferred_expansions,
+        std::printf("ok   %s: %zu deferred, %llu open edges, %llu pairs linked\n", test.c_str(),
+                    r.partial.deferred_expansions, static_cast<unsigned long long>(c.open_edges),
                     static_cast<unsigned long long>(c.open_pairs_linked));
     } catch (const Error& e) {
       fail(test, std::string("threw ") + e.what());
     }
     unsetenv("EXPANSE_CUDA_BUDGET");
     unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
+    unsetenv("EXPANSE_CUDA_AUDIT_ROOM");
   }
 
   {
