@@ -37,4 +37,92 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
+/// The sites in the outer `depth` rings of the grid's cells (keys: each local site's cell,
+/// sorted). star_kernels.cu walks them on a stream of their own (see its use there).
+struct EdgeCells {
+  const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
+  int gx = 0, gy = 0, depth = 0;
+
+  EXPANSE_DEVICE_FORCE bool holds(int i) const {
+    if (!keys) return false;
+    const int key = static_cast<int>(keys[i]), y = key / gx, x = key - y * gx;
+    return min(min(x, y), min(gx - 1 - x, gy - 1 - y)) < depth;
+  }
+};
+
+/// Two phases of walks: the sites of even local id first, then the odd ones (a cell's sites fall
+/// in both). A finished walk of the first phase posts, to each odd neighbour w, the two
+/// triangles it shares with w, as the triple (b, u, a): around w, counter-clockwise, b comes just
+/// before u and a just after (-1 where u's star is open there). An odd site's walk then starts
+/// at a posted neighbour (no nearest-neighbour search) and takes a step from its inbox wherever
+/// the triangle it seeks has an even vertex besides itself, searching only for the triangles
+/// whose three vertices are all odd: about one in four, where without the posts every triangle
+/// is searched for three times, once from each vertex. Both ways give the same star: the posts
+/// come from exact stars, and a Delaunay triangle is one triangle whoever finds it.
+///
+/// Room for 5 posts in a 64-byte row; more are dropped, and their steps searched for. Tried and
+/// not kept (H100, session 15 call 4): four phases, each reading what the earlier ones posted
+/// (4096^2 uniform 46.8 ms GPU-only against two phases' 44.0, grid 33.9 against 28.1: a later
+/// phase's warps wait for their few searching lanes, and every phase's kernel has its tail).
+/// Their general inboxes (128-byte rows for 10 posts, placed by arithmetic on the phase) made
+/// two phases slower too: 4096^2 uniform 44.0-44.4 ms against this layout's 41.9, grid 28.1
+/// against 25.0 (call 3).
+inline constexpr int kInboxTriples = 5;
+inline constexpr int kInboxWords = 16;  // 5 triples, padded to 64 bytes
+
+struct StarInbox {
+  int* slots = nullptr;             ///< kInboxWords per odd site (local id i: row i / 2); null: none
+  std::uint32_t* counts = nullptr;  ///< triples posted to each odd site (past kInboxTriples dropped)
+  bool reading = false;             ///< the second phase: walks read their inbox, nobody posts
+
+  EXPANSE_DEVICE_FORCE static bool odd(int v) { return (v & 1) != 0; }
+  EXPANSE_DEVICE_FORCE bool posting() const { return slots && !reading; }
+  EXPANSE_DEVICE_FORCE int posted(int i) const {
+    const int c = static_cast<int>(counts[i >> 1]);
+    return c < kInboxTriples ? c : kInboxTriples;
+  }
+  EXPANSE_DEVICE_FORCE const int* row(int i) const { return slots + static_cast<std::size_t>(i >> 1) * kInboxWords; }
+
+  /// A neighbour of odd site i from its inbox, or -1.
+  EXPANSE_DEVICE_FORCE int first_neighbour(int i) const { return posted(i) == 0 ? -1 : row(i)[1]; }
+  /// The apex of i->v (counter_clockwise: the neighbour just after v around i) or of v->i (the
+  /// one just before), from odd site i's inbox, or -1.
+  EXPANSE_DEVICE_FORCE int apex(int i, int v, bool counter_clockwise) const {
+    const int* r = row(i);
+    const int count = posted(i);
+    for (int k = 0; k < count; ++k) {
+      const int b = r[3 * k], u = r[3 * k + 1], a = r[3 * k + 2];
+      if (counter_clockwise) {
+        if (u == v && a >= 0) return a;
+        if (b == v) return u;
+      } else {
+        if (u == v && b >= 0) return b;
+        if (a == v) return u;
+      }
+    }
+    return -1;
+  }
+};
+
+/// Posts even site u's finished star (the row and info of star_common.cuh) to its odd
+/// neighbours' inboxes. `bump` returns a counter's old value and adds one (an atomic on the
+/// device).
+template <typename Bump>
+EXPANSE_DEVICE_FORCE void post_star(const StarInbox& inbox, const int* star, std::uint32_t info, int u, Bump bump) {
+  const int deg = star_degree(info);
+  const bool closed = star_closed(info);
+  for (int t = 0; t < deg; ++t) {
+    const int w = star_at(star, info, u, t);
+    if (!StarInbox::odd(w)) continue;
+    const unsigned k = bump(inbox.counts + (w >> 1));
+    if (k >= static_cast<unsigned>(kInboxTriples)) continue;
+    // The triangles (u, star t-1, w) and (u, w, star t+1): around w, u comes just after star
+    // t+1 and just before star t-1.
+    int* r = inbox.slots + static_cast<std::size_t>(w >> 1) * kInboxWords + 3 * k;
+    r[0] = t + 1 < deg || closed ? star_at(star, info, u, t + 1) : -1;
+    r[1] = u;
+    r[2] = t > 0 || closed ? star_at(star, info, u, t - 1) : -1;
+  }
+}
+
 }  // namespace expanse::detail::cuda

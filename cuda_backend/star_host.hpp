@@ -96,7 +96,10 @@ class HostStarLayout {
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
   /// kernel's default for the search), spread over
   /// `threads` host threads; the result does not depend on their number.
-  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes) {
+  /// With `two_phases` (boxes only), the even sites are walked first and post their triangles
+  /// to the odd ones, whose walks then read them (StarInbox), as the kernels' phases do.
+  StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes,
+                          bool two_phases = false) {
     if (budget == 0) budget = default_budget(search);
     const std::size_t n = points_.size();
     star_.assign(n * kStar, -1);
@@ -104,16 +107,26 @@ class HostStarLayout {
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
     std::vector<std::uint32_t> work_of(n, 0);
+    const int phases = two_phases && search == StarSearch::boxes ? 2 : 1;
+    std::vector<int> inbox_slots(phases == 2 ? (n / 2 + 1) * kInboxWords : 0, -1);
+    std::vector<std::uint32_t> inbox_counts(phases == 2 ? n / 2 + 1 : 0, 0);
+    StarInbox inbox{phases == 2 ? inbox_slots.data() : nullptr, inbox_counts.data(), false};
+    int phase = 0;
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
       for (std::size_t i = n * p / threads; i < n * (p + 1) / threads; ++i) {
+        if (static_cast<int>(i % phases) != phase) continue;
         int* row = star_.data() + i * kStar;
-        const StarWalk w = search == StarSearch::boxes
-                               ? (exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(),
-                                                                                           static_cast<int>(i), row, budget)
-                                                 : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), static_cast<int>(i),
-                                                                                   row, budget))
-                               : walk_star_by<StarSearch::rings>(grid_, pred_.data(), static_cast<int>(i), row, budget);
+        const int s = static_cast<int>(i);
+        StarWalk w;
+        if (search == StarSearch::rings)
+          w = walk_star_by<StarSearch::rings>(grid_, pred_.data(), s, row, budget);
+        else if (inbox.reading)
+          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true, false, true>(grid_, pred_.data(), s, row, budget, inbox)
+                             : walk_star_by<StarSearch::boxes, false, false, true>(grid_, pred_.data(), s, row, budget, inbox);
+        else
+          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), s, row, budget)
+                             : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), s, row, budget);
         ++totals.sites;
         work_of[i] = w.work;
         totals.predicates += w.predicates;
@@ -132,10 +145,18 @@ class HostStarLayout {
         info_[i] = star_info(w);
       }
     };
-    std::vector<std::thread> workers;
-    for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
-    walk_range(0);
-    for (auto& worker : workers) worker.join();
+    for (; phase < phases; ++phase) {
+      std::vector<std::thread> workers;
+      for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
+      walk_range(0);
+      for (auto& worker : workers) worker.join();
+      if (inbox.posting()) {
+        for (std::size_t u = 0; u < n; u += 2)
+          if (!star_deferred(info_[u]))
+            post_star(inbox, star_.data(), info_[u], static_cast<int>(u), [](std::uint32_t* c) { return (*c)++; });
+        inbox.reading = true;
+      }
+    }
     StarWorkTotals totals;
     for (const StarWorkTotals& t : part) {
       totals.sites += t.sites;
@@ -149,10 +170,16 @@ class HostStarLayout {
       totals.deferred_full_row += t.deferred_full_row;
       totals.deferred_no_apex += t.deferred_no_apex;
     }
+    // Groups of a phase's sites, as its kernel's threads take them.
     auto lockstep = [&](std::size_t group) {
       std::uint64_t sum = 0;
-      for (std::size_t first = 0; first < n; first += group)
-        sum += *std::max_element(work_of.begin() + first, work_of.begin() + std::min(n, first + group));
+      const std::size_t stride = static_cast<std::size_t>(phases);
+      for (std::size_t phase = 0; phase < stride; ++phase)
+        for (std::size_t first = phase; first < n; first += group * stride) {
+          std::uint32_t most = 0;
+          for (std::size_t i = first; i < std::min(n, first + group * stride); i += stride) most = std::max(most, work_of[i]);
+          sum += most;
+        }
       return sum;
     };
     totals.lockstep_work_8 = lockstep(8);

@@ -42,17 +42,19 @@ enum class WalkPass { only, first, retry };
 /// the warps; `undecided_list` (list_counts[1]) a light first pass's sites that met a candidate
 /// only the exact path decides, for a thread each (star_list_kernel). The lists of the grid's
 /// edge (EdgeCells) are apart from the rest's: counters[7..8] count the rest's, [10..11] the edge's.
-template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
+template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false,
+          bool ReadsInbox = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list,
-                                                int* undecided_list, unsigned int* list_counts) {
+                                                int* undecided_list, unsigned int* list_counts,
+                                                const StarInbox& inbox = {}) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
     w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search, ExactLattice, FirstPass>(g, pred, i, row, budget);
+    w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox>(g, pred, i, row, budget, inbox);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -86,49 +88,41 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   const std::uint32_t inf = star_info(w);
   info[i] = inf;
   owned[i] = owned_triangles(star, inf, i);
+  if (inbox.posting()) post_star(inbox, star, inf, i, [](std::uint32_t* c) { return atomicAdd(c, 1u); });
 }
 
-/// The sites in the outer `depth` rings of the grid's cells (keys: each local site's cell, sorted).
-/// Their walks are the longest by far: every site that runs past the first pass's budget on a
-/// uniform input lies in the outermost ring (4M sites: 1,325 of them, the costliest 65,536
+/// The sites in the outer rings of the grid's cells (EdgeCells, star_common.cuh). Their walks
+/// are the longest by far: every site that runs past the first pass's budget on a uniform
+/// input lies in the outermost ring (4M sites: 1,325 of them, the costliest 65,536
 /// units, where the first pass allows 1,024), and on kuzmin those of the outermost take 45% of
 /// the second pass's work, at most 65,536 units again against 24,170 one ring further in
 /// (counted on the CPU, session 13). A warp walks such a site alone, and the last one to finish
 /// set the second pass's length: ~9 ms of 48 at 4096^2 uniform (H100, ncu), the rest of the GPU
 /// idle. So these sites take both passes on a stream of their own (Context::edge_stream) of the
 /// highest priority, alongside everyone else's first pass, and their second pass starts early.
-struct EdgeCells {
-  const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
-  int gx = 0, gy = 0, depth = 0;
-
-  EXPANSE_DEVICE_FORCE bool holds(int i) const {
-    if (!keys) return false;
-    const int key = static_cast<int>(keys[i]), y = key / gx, x = key - y * gx;
-    return min(min(x, y), min(gx - 1 - x, gy - 1 - y)) < depth;
-  }
-};
-
+///
 /// list[0 .. *count) = the local sites that `edge` holds.
 __global__ void edge_list_kernel(EdgeCells edge, int n, int* list, unsigned int* count) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n && edge.holds(i)) list[atomicAdd(count, 1u)] = i;
 }
 
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
                                                               unsigned int* counters, unsigned budget,
                                                               const int* order, WalkPass pass, int* retry_list,
-                                                              int* undecided_list, EdgeCells edge) {
-  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+                                                              int* undecided_list, EdgeCells edge,
+                                                              int phases, int phase, StarInbox inbox) {
+  // Thread t walks local site order[t], or the t-th site of its phase (StarInbox): cell order
+  // measured faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms;
+  // kuzmin: 629 vs 733 ms). Morton order walks in one phase.
+  const int t = (blockIdx.x * blockDim.x + threadIdx.x) * phases + phase;
   if (t >= n) return;
-  // Thread t walks local site order[t], or t: cell order measured faster than the sites'
-  // Morton order on the H100 (uniform 4096^2: 230 vs 244 ms; kuzmin: 629 vs 733 ms).
   const int i = order ? order[t] : t;
   if (edge.holds(i)) return;  // the edge stream walks it
-  walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, i, star, info, owned, counters,
-                                                                         budget, pass, retry_list, undecided_list,
-                                                                         counters + 7);
+  walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox>(
+      g, pred, i, star, info, owned, counters, budget, pass, retry_list, undecided_list, counters + 7, inbox);
 }
 
 /// The sites list[0 .. *count), a thread each, as a first pass walks them: those that run past
@@ -374,10 +368,10 @@ unsigned box_search_budget(std::size_t sites) {
 }
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
-/// a site).
+/// a site); an inbox (StarInbox) for every other site.
 std::size_t per_site_bytes() {
   return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
-         2 * 2 * 3 * sizeof(int) + sizeof(int) + 64;
+         2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 1) * sizeof(int) / 2 + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
@@ -502,7 +496,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
-        order, WalkPass::only, nullptr, nullptr, EdgeCells{});
+        order, WalkPass::only, nullptr, nullptr, EdgeCells{}, 1, 0, StarInbox{});
   } else {
     // The sites of the grid's outer ring of cells (EdgeCells) take their two passes on the edge
     // stream while the rest take theirs here; EXPANSE_CUDA_EDGE_DEPTH sets how many rings (0:
@@ -521,6 +515,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     int* const edge_undecided = edge_depth > 0 ? edge_sites + 2 * n : nullptr;
     unsigned int* const edge_counts = d_counters.get() + 9;
     const bool light = two_passes && !first_full;
+    // The stars are walked in two phases (StarInbox) above 2^18 sites, else in one; or as
+    // EXPANSE_CUDA_PHASES (1 or 2) says. Morton order (EXPANSE_CUDA_ORDER) walks in one. H100,
+    // GPU-only, alternated with one phase (session 15 call 3): 4096^2 uniform 49.2 -> 41.9 ms
+    // (star kernels 40.8 -> 33.5), kuzmin 89.1 -> 75.0, gaussian 70.4 -> 59.1, grid 27.5 ->
+    // 25.0; 1024^2 -4% to -9%. At 512^2, half a wave of blocks a phase, kuzmin lost 4% (4.8 ->
+    // 5.0 ms) and the rest were within 2%.
+    const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
+    const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
+    const int phases = two && !order ? 2 : 1;
+    const std::size_t inboxes = phases == 2 ? n / 2 + 1 : 0;
+    DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
+    DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
+    if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
@@ -549,18 +556,27 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
             edge_counts + 1);
         EXPANSE_CUDA(cudaEventRecord(join, es));
       }
+      // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
+      auto walk_phases = [&](auto first, auto later, int* undecided) {
+        for (int phase = 0; phase < phases; ++phase) {
+          const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase == 1};
+          const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
+          if (sites == 0) continue;
+          (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
+              g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+              pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox);
+        }
+      };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (light) {
-        star_kernel<StarSearch::boxes, blocks, exact, true><<<blocks_for(n, 128), 128, 0, stream>>>(
-            g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get(), d_undecided.get(), edge);
+        walk_phases(star_kernel<StarSearch::boxes, blocks, exact, true>,
+                    star_kernel<StarSearch::boxes, blocks, exact, true, true>, d_undecided.get());
         star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
       } else {
-        star_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(n, 128), 128, 0, stream>>>(
-            g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-            pass_budget, order, pass, d_retry.get(), nullptr, edge);
+        walk_phases(star_kernel<StarSearch::boxes, blocks, exact>, star_kernel<StarSearch::boxes, blocks, exact, false, true>,
+                    nullptr);
       }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(

@@ -141,8 +141,14 @@ enum class Walker { thread, warp };
 ///    saves, and its bounds cost registers; the searches that need it (long thin regions along
 ///    the hull) run past the first pass's budget and are walked again with it. Star kernel
 ///    -21% (uniform) to -26% (gaussian) with no clipping anywhere (session 11 call 10).
-template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false>
-EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+///
+/// ReadsInbox: the walk of an odd site in the second of two phases (StarInbox), which starts at
+/// a neighbour from its inbox and takes steps from it. A template parameter for the registers:
+/// the reading compiled into every walk cost the one-phase star kernels 6% (H100, session 15
+/// call 2).
+template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
+EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
+                                        const StarInbox& inbox = {}) {
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
@@ -174,6 +180,16 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   CellBox target = g.xb ? cells_of(g, ps.x, ps.y, ps.x, ps.y)
                         : cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w,
                                    ps.y + 0.5 * g.cell_h);
+  // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
+  // (an empty first box, and the search over at once).
+  bool given = false;
+  if constexpr (ReadsInbox) {
+    if (const int start = inbox.first_neighbour(i); start >= 0) {
+      best = start;
+      given = true;
+      target = CellBox{0, 0, -1, -1};
+    }
+  }
   int y = target.y0 - 1, part = 1;
   std::uint32_t slot = 0, slot_end = 0;
   int pending = -1;
@@ -477,7 +493,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
                   min(visited.y1 + grow_y, whole.y1)};
       } else {
         const CellBox region = region_of_best();
-        found = box_inside(region, visited);
+        found = given || box_inside(region, visited);
+        given = false;
         {
           // Towards the region, by at most half the visited box per side: nearer candidates
           // come first and shrink the region (a far region is often a poor early candidate's).
@@ -492,38 +509,45 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
       if (!found) continue;
 
-      // The search is over: best is the answer. The walk's next step, as in walk_star.
-      const int c = best;
-      if (phase == nearest) {
-        v0 = c;
-        if (writer) row[0] = c;
-        w.ccw = 1;
-        v = c;
-        phase = ccw;
-      } else if (c == v0) {
-        if (phase == ccw) {
-          w.closed = true;
-          phase = done;
-        } else {
-          reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+      // The search is over: best is the answer. The walk's next step, as in walk_star, and
+      // the steps after it that the inbox gives (StarInbox).
+      for (int c = best;;) {
+        if (phase == nearest) {
+          v0 = c;
+          if (writer) row[0] = c;
+          w.ccw = 1;
+          v = c;
+          phase = ccw;
+        } else if (c == v0) {
+          if (phase == ccw) {
+            w.closed = true;
+            phase = done;
+          } else {
+            reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+            phase = deferred;
+          }
+        } else if (w.ccw + w.cw >= kStar) {
+          reason = DeferReason::full_row;
           phase = deferred;
+        } else {
+          if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
+          if (phase == ccw)
+            ++w.ccw;
+          else
+            ++w.cw;
+          v = c;
         }
-      } else if (w.ccw + w.cw >= kStar) {
-        reason = DeferReason::full_row;
-        phase = deferred;
-      } else {
-        if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
-        if (phase == ccw)
-          ++w.ccw;
-        else
-          ++w.cw;
-        v = c;
+        if (phase == ccw && pred_s == v) {
+          phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
+          v = v0;
+        }
+        if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
+        if (phase >= done) break;
+        if constexpr (!ReadsInbox) break;
+        c = inbox.apex(i, v, phase == ccw);
+        if (c < 0) break;
+        ++work;  // a step taken from the inbox: one unit
       }
-      if (phase == ccw && pred_s == v) {
-        phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
-        v = v0;
-      }
-      if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
       if (phase >= done) break;
       // The next edge: s->v counter-clockwise, v->s clockwise.
       const double2 pv = load_site(g.points, v);
@@ -594,10 +618,11 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
   return search == StarSearch::boxes ? 1u << 16 : 1u << 14;
 }
 
-template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false>
-EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget) {
+template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
+EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget,
+                                           const StarInbox& inbox = {}) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass>(g, pred, i, row, budget);
+    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox>(g, pred, i, row, budget, inbox);
   else
     return walk_star(g, pred, i, row, budget);
 }

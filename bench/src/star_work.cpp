@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> dists{"uniform", "gaussian", "kuzmin"};
   std::vector<std::string> grids{"quantile"};
   std::vector<std::string> searches{"boxes"};
+  std::vector<int> phase_counts{1};
   unsigned budget = 0;  // the kernel's default for each search
   unsigned first_pass = 0;  // 0: not counted
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
   app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (the kernel: 2^10; 2^11 on quantile cells above 2^20 sites)");
   app.add_option("--threads", threads, "host threads walking the stars");
+  app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
   bench::JsonLinesOutput sink(output);
@@ -58,16 +60,16 @@ int main(int argc, char** argv) {
       const std::vector<expanse::Point2> points = expanse::generate_points(dist, n, 1);
       const expanse::detail::SiteSet sites = expanse::detail::prepare_sites(points);
       const expanse::detail::Hull hull = expanse::detail::convex_hull(sites);
-      for (const std::string& grid : grids) for (const std::string& search : searches) {
+      for (const std::string& grid : grids) for (const std::string& search : searches) for (const int phases : phase_counts) {
         using expanse::detail::cuda::StarSearch;
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
         const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
-        const auto t = layout.walk_all(budget, threads, kind);
+        const auto t = layout.walk_all(budget, threads, kind, phases == 2);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
             {"distribution", dist}, {"n", n}, {"sites", t.sites},
-            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket},
+            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"phases", phases},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},
