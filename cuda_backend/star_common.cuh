@@ -62,11 +62,11 @@ struct EdgeCells {
 ///
 /// Room for 5 posts in a 64-byte row; more are dropped, and their steps searched for. Tried and
 /// not kept (H100, session 15 call 4): four phases, each reading what the earlier ones posted
-/// (4096^2 uniform 46.8 ms GPU-only against two phases' 44.0, grid 33.9 against 28.1: a later
-/// phase's warps wait for their few searching lanes, and every phase's kernel has its tail).
-/// Their general inboxes (128-byte rows for 10 posts, placed by arithmetic on the phase) made
-/// two phases slower too: 4096^2 uniform 44.0-44.4 ms against this layout's 41.9, grid 28.1
-/// against 25.0 (call 3).
+/// (4096^2 uniform 46.8 ms GPU-only against two phases' 44.0-44.4, grid 33.9 against
+/// 27.5-28.1: a later phase's warps wait for their few searching lanes, and every phase's
+/// kernel has its tail). Their general inboxes (128-byte rows for 10 posts, placed by
+/// arithmetic on the phase) made two phases slower too: 4096^2 uniform 44.0-44.4 ms against
+/// this layout's 41.9, grid 27.5-28.1 against 25.0 (call 3).
 inline constexpr int kInboxTriples = 5;
 inline constexpr int kInboxWords = 16;  // 5 triples, padded to 64 bytes
 
