@@ -37,19 +37,6 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
-/// The sites in the outer `depth` rings of the grid's cells (keys: each local site's cell,
-/// sorted). star_kernels.cu walks them on a stream of their own (see its use there).
-struct EdgeCells {
-  const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
-  int gx = 0, gy = 0, depth = 0;
-
-  EXPANSE_DEVICE_FORCE bool holds(int i) const {
-    if (!keys) return false;
-    const int key = static_cast<int>(keys[i]), y = key / gx, x = key - y * gx;
-    return min(min(x, y), min(gx - 1 - x, gy - 1 - y)) < depth;
-  }
-};
-
 /// Two phases of walks: the sites of even local id first, then the odd ones (a cell's sites fall
 /// in both). A finished walk of the first phase posts, to each odd neighbour w, the two
 /// triangles it shares with w, as the triple (b, u, a): around w, counter-clockwise, b comes just

@@ -91,16 +91,26 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   if (inbox.posting()) post_star(inbox, star, inf, i, [](std::uint32_t* c) { return atomicAdd(c, 1u); });
 }
 
-/// The sites in the outer rings of the grid's cells (EdgeCells, star_common.cuh). Their walks
-/// are the longest by far: every site that runs past the first pass's budget on a uniform
-/// input lies in the outermost ring (4M sites: 1,325 of them, the costliest 65,536
+/// The sites in the outer `depth` rings of the grid's cells (keys: each local site's cell, sorted).
+/// Their walks are the longest by far: every site that runs past the first pass's budget on a
+/// uniform input lies in the outermost ring (4M sites: 1,325 of them, the costliest 65,536
 /// units, where the first pass allows 1,024), and on kuzmin those of the outermost take 45% of
 /// the second pass's work, at most 65,536 units again against 24,170 one ring further in
 /// (counted on the CPU, session 13). A warp walks such a site alone, and the last one to finish
 /// set the second pass's length: ~9 ms of 48 at 4096^2 uniform (H100, ncu), the rest of the GPU
 /// idle. So these sites take both passes on a stream of their own (Context::edge_stream) of the
 /// highest priority, alongside everyone else's first pass, and their second pass starts early.
-///
+struct EdgeCells {
+  const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
+  int gx = 0, gy = 0, depth = 0;
+
+  EXPANSE_DEVICE_FORCE bool holds(int i) const {
+    if (!keys) return false;
+    const int key = static_cast<int>(keys[i]), y = key / gx, x = key - y * gx;
+    return min(min(x, y), min(gx - 1 - x, gy - 1 - y)) < depth;
+  }
+};
+
 /// list[0 .. *count) = the local sites that `edge` holds.
 __global__ void edge_list_kernel(EdgeCells edge, int n, int* list, unsigned int* count) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
