@@ -80,14 +80,14 @@ layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
 // Row s (four ivec4): the star of s, counter-clockwise from index star_start, wrapping
 // (star_common.glsl). Written only for sites that do not defer.
 layout(std430, set = 0, binding = 5) buffer Star { ivec4 star4[]; };
-// The same rows as words: until a site of a later pass walks, its row lists the sites of
-// earlier passes that have it in their stars (the count in site_info_words, below).
+// The same rows as words: until a site of a later pass walks, its row holds what the stars of
+// earlier passes posted to it (the count in site_info_words, below).
 layout(std430, set = 0, binding = 5) buffer StarWords { int star_words[]; };
 // Site s: (star info (star_common.glsl), first output triangle of s or -1).
 layout(std430, set = 0, binding = 6) buffer SiteInfo { ivec2 site_info[]; };
-// The same words: word 2u + 1 of a site u of a later pass counts the sites of earlier passes
-// listed in u's row, minus one (the host fills the words with -1 before the first pass; only
-// finished stars list themselves).
+// The same words: word 2u + 1 of a site u of a later pass counts the posts of earlier passes
+// to u's row, minus one (the host fills the words with -1 before the first pass; only finished
+// stars post).
 layout(std430, set = 0, binding = 6) buffer SiteInfoWords { int site_info_words[]; };
 // Quantile cells' boundaries (unused with uniform cells).
 layout(std430, set = 0, binding = 7) readonly buffer CellBounds { double cell_bounds[]; };
@@ -124,11 +124,12 @@ int predecessor_of(int s) { return texelFetch(predecessor_texels, s).x; }
 #include "quantile_cells.glsl"
 #include "star_common.glsl"
 
-// What the stars of earlier passes tell a site s: for each listed neighbour w (at most
-// EARLIER_MAX), the neighbours of s just before and after w counter-clockwise around s
-// (-1 where w's star does not tell: w met the hull). So a walk step s->v has a known apex where
-// v is listed (the one after v) or where some listed w comes just after v (w itself).
-const int EARLIER_MAX = 8;
+// What the stars of earlier passes tell a site s, posted into its row by each finished star w
+// of an earlier class that has s in it (at most POSTS_MAX; the rest are dropped and searched
+// for): w, and the neighbours of s just before and after w counter-clockwise around s (-1 where
+// w's star does not tell: w met the hull). So a walk step s->v has a known apex where v is
+// posted (the one after v) or where some posted w comes just after v (w itself).
+const int POSTS_MAX = 5;  // triples in a 16-word row
 struct Earlier {
   ivec4 w0, w1, before0, before1, after0, after1;
 };
@@ -144,11 +145,11 @@ int pick_where(ivec4 k0, ivec4 k1, ivec4 v0, ivec4 v1, int k) {
 // The apex of s->v (counter-clockwise) or of v->s (clockwise) where earlier stars tell it, or -1.
 int known_apex(Earlier e, int v, bool counter_clockwise) {
   if (v < 0) return -1;
-  int listed = counter_clockwise ? pick_where(e.w0, e.w1, e.after0, e.after1, v)
+  int from_v = counter_clockwise ? pick_where(e.w0, e.w1, e.after0, e.after1, v)
                                  : pick_where(e.w0, e.w1, e.before0, e.before1, v);
   int next = counter_clockwise ? pick_where(e.before0, e.before1, e.w0, e.w1, v)
                                : pick_where(e.after0, e.after1, e.w0, e.w1, v);
-  return listed >= 0 ? listed : next;
+  return from_v >= 0 ? from_v : next;
 }
 
 const int PHASE_NEAREST = 0;  // nearest neighbour v0 of s
@@ -279,29 +280,19 @@ void main() {
   int y = tlo.y - 1, part = 1, slot = 0, slot_end = 0;
   int pending = -1;
   bool big_scan = false, restart = false;
-  // The neighbours of earlier passes, from their stars; the walk starts at the first of them
-  // (no nearest-neighbour search).
+  // The neighbours of earlier passes, from the posts in s's row; the walk starts at the first of
+  // them (no nearest-neighbour search).
   Earlier earlier = Earlier(ivec4(-1), ivec4(-1), ivec4(-1), ivec4(-1), ivec4(-1), ivec4(-1));
   bool known = false;
   if (params.pass > 0) {
-    int listed = min(site_info_words[2 * s + 1] + 1, EARLIER_MAX);
-    ivec4 list0 = star4[4 * s], list1 = star4[4 * s + 1];
-    for (int k = 0; k < listed; ++k) {
+    int posted = min(site_info_words[2 * s + 1] + 1, POSTS_MAX);
+    StarRow inbox = StarRow(star4[4 * s], star4[4 * s + 1], star4[4 * s + 2], star4[4 * s + 3]);
+    for (int k = 0; k < posted; ++k) {
       --budget;
-      ivec4 q = k < 4 ? list0 : list1;
-      int j = k & 3;
-      int w = j < 2 ? (j == 0 ? q.x : q.y) : (j == 2 ? q.z : q.w);
-      uint info = uint(site_info[w].x);
-      StarRow row = StarRow(star4[4 * w], star4[4 * w + 1], star4[4 * w + 2], star4[4 * w + 3]);
-      int p = star_find(row, info, s);
-      int deg_w = star_degree(info);
-      bool wraps = star_closed(info);
-      int before = p >= 0 && (p + 1 < deg_w || wraps) ? star_at(row, info, p + 1) : -1;
-      int after = p >= 0 && (p >= 1 || wraps) ? star_at(row, info, p - 1) : -1;
+      int before = row_pick(inbox, 3 * k), w = row_pick(inbox, 3 * k + 1), after = row_pick(inbox, 3 * k + 2);
       bvec4 at0 = equal(ivec4(k), ivec4(0, 1, 2, 3)), at1 = equal(ivec4(k), ivec4(4, 5, 6, 7));
-      int w_ok = p >= 0 ? w : -1;
-      earlier.w0 = mix(earlier.w0, ivec4(w_ok), at0);
-      earlier.w1 = mix(earlier.w1, ivec4(w_ok), at1);
+      earlier.w0 = mix(earlier.w0, ivec4(w), at0);
+      earlier.w1 = mix(earlier.w1, ivec4(w), at1);
       earlier.before0 = mix(earlier.before0, ivec4(before), at0);
       earlier.before1 = mix(earlier.before1, ivec4(before), at1);
       earlier.after0 = mix(earlier.after0, ivec4(after), at0);
@@ -309,7 +300,7 @@ void main() {
     }
     int first = max(max(max(earlier.w0.x, earlier.w0.y), max(earlier.w0.z, earlier.w0.w)),
                     max(max(earlier.w1.x, earlier.w1.y), max(earlier.w1.z, earlier.w1.w)));
-    if (first >= 0) {  // the walk starts at a listed neighbour
+    if (first >= 0) {  // the walk starts at a posted neighbour
       best = first;
       best_p = site_at(first);
       known = true;
@@ -594,9 +585,15 @@ void main() {
   if (params.pass < params.pass_mask) {
     for (int t = 0; t < deg; ++t) {
       int u = star_at(row, info, t);
-      if (class_of(u) > params.pass) {  // list s in u's row (its count word starts at -1)
+      if (class_of(u) > params.pass) {  // post to u's row (its count word starts at -1)
         int k = atomicAdd(site_info_words[2 * u + 1], 1) + 1;
-        if (k < EARLIER_MAX) star_words[16 * u + k] = s;
+        if (k < POSTS_MAX) {
+          // The triangles (s, star t-1, u) and (s, u, star t+1): around u, s comes just after
+          // star t+1 and just before star t-1.
+          star_words[16 * u + 3 * k] = t + 1 < deg || closed ? star_at(row, info, t + 1) : -1;
+          star_words[16 * u + 3 * k + 1] = s;
+          star_words[16 * u + 3 * k + 2] = t > 0 || closed ? star_at(row, info, t - 1) : -1;
+        }
       }
     }
   }

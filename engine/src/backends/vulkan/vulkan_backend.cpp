@@ -375,13 +375,15 @@ class VulkanBackend final : public Backend {
     return star ? 20000u : 1000000000u;
   }
 
-  // star.comp's passes: classes of sites walked one after another, each reading the triangles
-  // it shares with earlier classes from their stars. Four classes of single ids on CPU devices:
-  // lavapipe, 1M uniform, star shader 755-802 -> 553-560 ms (this VM, 2026-11-25; two 586-599,
-  // eight 590-604). One class on GPUs: on the H100 (cuda_backend/results/2026-11-25-h100-s10)
-  // four classes took 4096^2 uniform's star shader from 79 to 92-108 ms, kuzmin's from 169 to
-  // 213-260; two classes 72 against 79 for uniform, but kuzmin 184 against 169 and host to
-  // host the same (call 7).
+  // star.comp's passes: classes of sites walked one after another, each taking the triangles it
+  // shares with earlier classes from what their stars posted to it. Four classes of single ids
+  // on CPU devices: lavapipe, 1M uniform, star shader 755-802 -> 553-560 ms (this VM,
+  // 2026-11-25; two 586-599, eight 590-604), when a later class still read the stars that
+  // listed themselves; posts took it to 529-538 ms against 583-592, kuzmin's unchanged at
+  // 1379-1444 (alternated, session 15). One class on GPUs: on the H100, two classes with posts
+  // (each its own light pass and edge ring) took 4096^2 uniform's star shader from 54.4 to
+  // 46.7 ms, but kuzmin's from 106 to 111 and 1024^2 uniform's from 12.5 to 20.6
+  // (cuda_backend/results/2026-11-25-h100-s15, call 11).
   // EXPANSE_VULKAN_STAR_PASSES (1, 2, 4, 8, 16) overrides, for experiments.
   std::uint64_t star_passes() const {
     if (const char* env = std::getenv("EXPANSE_VULKAN_STAR_PASSES")) {
@@ -952,14 +954,15 @@ class VulkanBackend final : public Backend {
       device_sorted = at[crowded_cell_counter] == 0;
     }
 
-    // One class: a light first pass and a retry of the sites it hands on (star.comp's EXACT_PATH
-    // and RETRY); classes: every pass with the exact path. Integer inputs that are no small
-    // lattice take the full pass too: the filters leave the cocircular cells of nearly every
-    // site undecided, and the light pass would hand nearly all of them on (a 120 x 120 grid 100
-    // units apart hands on every site).
+    // One class, or the GPU path: a light first pass (each class's) and a retry of the sites it
+    // hands on (star.comp's EXACT_PATH and RETRY); classes in place: every pass with the exact
+    // path. Integer inputs that are no small lattice take the full pass too: the filters leave
+    // the cocircular cells of nearly every site undecided, and the light pass would hand nearly
+    // all of them on (a 120 x 120 grid 100 units apart hands on every site).
     const std::uint64_t classes = star_passes();
+    const bool one_or_gpu = classes == 1 || !in_place;
     const bool lattice = exact_lattice_arithmetic(input.sites) && exact_lattice_search();
-    const bool light = classes == 1 && light_first_pass() && (lattice || !input.sites.integer_coordinates);
+    const bool light = one_or_gpu && light_first_pass() && (lattice || !input.sites.integer_coordinates);
     // The retry dispatch also decides incircles from exact coordinate differences (star.comp's
     // EXACT_DIFFERENCES).
     auto star_spec = [&](bool exact_path, bool retry, std::uint32_t edge_part) {
@@ -981,12 +984,12 @@ class VulkanBackend final : public Backend {
       k.bind(bindings, texels);
       return k;
     };
-    // One class on a device of our own: the grid's outer ring first, then the rest with no
-    // barrier between (star.comp's EDGE_PART). EXPANSE_VULKAN_EDGE=0 walks every site in one
-    // dispatch. Not on a lent device: its queue may carry the application's synchronisation
-    // validation, which counts two dispatches writing one buffer as a hazard even where their
-    // sites differ.
-    const bool edge_apart = classes == 1 && !ctx.borrowed() && edge_first();
+    // One class or the GPU path, on a device of our own: each class's sites of the grid's outer
+    // ring first, then the rest with no barrier between (star.comp's EDGE_PART).
+    // EXPANSE_VULKAN_EDGE=0 walks every site of a class in one dispatch. Not on a lent device:
+    // its queue may carry the application's synchronisation validation, which counts two
+    // dispatches writing one buffer as a hazard even where their sites differ.
+    const bool edge_apart = one_or_gpu && !ctx.borrowed() && edge_first();
     std::vector<Kernel*> first_kernels;
     if (edge_apart)
       first_kernels = {&star_kernel(!light, false, 1), &star_kernel(!light, false, 2)};
@@ -1049,6 +1052,7 @@ class VulkanBackend final : public Backend {
       rec.barrier();
     }
     if (retry_kernel) {  // the sites the light pass handed on (a site that was not exits at once)
+      params.pass = params.pass_mask = params.pass_shift = 0;  // every site, none reading or posting
       for (std::uint64_t first = 0; first < n; first += max_groups * wg) {
         params.grid.first = std::int32_t(first);
         const std::uint64_t left = (n - first + wg - 1) / wg;
