@@ -530,7 +530,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // GPU-only, alternated with one phase (session 15 call 3): 4096^2 uniform 49.2 -> 41.9 ms
     // (star kernels 40.8 -> 33.5), kuzmin 89.1 -> 75.0, gaussian 70.4 -> 59.1, grid 27.5 ->
     // 25.0; 1024^2 -4% to -9%. At 512^2, half a wave of blocks a phase, kuzmin lost 4% (4.8 ->
-    // 5.0 ms) and the rest were within 2%.
+    // 5.0 ms) while uniform, gaussian and grid were no slower.
     const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
     const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
     const int phases = two && !order ? 2 : 1;

@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
   app.add_option("--sites-per-bucket", sites_per_bucket, "mean sites per grid cell");
   app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (the kernel: 2^10; 2^11 on quantile cells above 2^20 sites)");
   app.add_option("--threads", threads, "host threads walking the stars");
-  app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")->delimiter(',');
+  app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({1, 2}));
   CLI11_PARSE(app, argc, argv);
 
   bench::JsonLinesOutput sink(output);
