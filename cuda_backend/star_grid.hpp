@@ -42,6 +42,24 @@ inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per
   return s;
 }
 
+/// Uniform cells hold this many times the layout's sites_per_bucket when the coordinates are not
+/// integers; quantile cells, and uniform cells of integer inputs, hold sites_per_bucket. A scan
+/// costs its rows as much as its candidates, and since the first pass walks light (no row cuts,
+/// no exact path) coarser uniform cells pay. H100, GPU-only, uniform input, sites per cell 2 /
+/// 3 / 3.5 / 4, two rounds alternated (session 16 call 10): 512^2 3.15-3.04 / 2.93-2.95 /
+/// 2.88-2.87 / 2.91-2.90 ms; 1024^2 6.22-6.10 / 5.72-5.62 / 5.44-5.45 / 5.49-5.31; 2048^2
+/// 20.7 / 19.4-19.5 / 18.8 / 18.5-18.7; 4096^2 43.0-41.9 / 40.6 / 40.8 / 40.9-41.0. The integer
+/// lattice lost at 2.5 to 3.5 (4096^2 25.3-25.8 against 24.0-25.0 ms) and won only at 4, where
+/// its cells are 2 x 2 of its points; kuzmin, on quantile cells, lost at 3 (call 9: 77.3
+/// against 75.4-75.9 ms) and gaussian did not move. Session 8 (call 13), before the light
+/// pass, had found two a cell best.
+inline constexpr double kUniformCellsScale = 1.75;
+
+/// The shape of uniform cells for these sites (kUniformCellsScale).
+inline GridShape uniform_cells_shape(const Box& box, std::size_t n, double sites_per_bucket, bool integer_coordinates) {
+  return make_grid_shape(box, n, integer_coordinates ? sites_per_bucket : kUniformCellsScale * sites_per_bucket);
+}
+
 /// The shape of quantile cells: as many columns as rows, no more cells than `uniform` has. Quantile
 /// boundaries give every column and every row its share of the sites whatever the box, so the
 /// box's aspect, which sizes uniform cells, says nothing about them; a heavy tail stretches the

@@ -45,8 +45,11 @@ class HostStarLayout {
   /// sample, stable sort by cell), ready to walk.
   HostStarLayout(const SiteSet& sites, const Hull& hull, double sites_per_bucket, bool quantile) {
     const std::size_t n = sites.points.size();
-    const GridShape uniform = make_grid_shape(sites.bounds, n, sites_per_bucket);
-    const GridShape shape = quantile && !square_quantile_off() ? quantile_shape(uniform, sites.bounds) : uniform;
+    const GridShape finest = make_grid_shape(sites.bounds, n, sites_per_bucket);
+    const GridShape shape = !quantile               ? uniform_cells_shape(sites.bounds, n, sites_per_bucket,
+                                                                          sites.integer_coordinates)
+                            : square_quantile_off() ? finest
+                                                    : quantile_shape(finest, sites.bounds);
     grid_ = make_grid_view(shape, sites.bounds);
     exact_lattice_ = exact_lattice_arithmetic(sites);
     if (quantile) {

@@ -416,7 +416,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   }
   const auto host_uploaded = clock::now();
 
-  CellBuckets buckets(n, shape, stream);
+  const GridShape uniform_shape =
+      uniform_cells_shape(input.sites.bounds, n, input.layout.sites_per_bucket, input.sites.integer_coordinates);
+  CellBuckets buckets(n, shape, uniform_shape, stream);
   DeviceArray<int> d_rank(n, stream), d_pred(n, stream);
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);

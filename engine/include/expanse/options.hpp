@@ -28,7 +28,9 @@ struct Layout {
   int threads_per_block = 0;
   /// Width of the halo copied from neighbouring blocks, as a fraction of a block's side.
   double halo_fraction = 0.25;
-  /// Mean sites per bucket of the global grid used by per_site seeding.
+  /// Mean sites per bucket of the global grid used by per_site seeding. (The CUDA backend's
+  /// uniform cells hold 1.75 times as many when the coordinates are not integers:
+  /// docs/algorithm.md.)
   double sites_per_bucket = 2.0;
 
   /// The paper's layout: 16x16 blocks of 16x16 buckets, one seed per block.
