@@ -390,6 +390,33 @@ TEST_CASE("CUDA quantile cells: as many columns as rows, whatever the box, no mo
   }
 }
 
+TEST_CASE("CUDA uniform cells: coarser for non-integer sites, never more cells than the room made for them",
+          "[cuda][grid]") {
+  // CellBuckets makes room (cell starts, key bits) for make_grid_shape's cells and fills the
+  // starts of the shape it applies; uniform cells must fit that room, whatever the box.
+  for (const double aspect : {1.0, 0.076, 13.0, 1e-3, 1e3}) {
+    const Box box{-1.0, 2.0, -1.0 + aspect, 3.0};
+    for (const std::size_t n : {std::size_t{3}, std::size_t{1000}, std::size_t{123457}, std::size_t{1} << 24}) {
+      for (const double per_bucket : {0.5, 2.0, 3.0}) {
+        const cuda::GridShape room = cuda::make_grid_shape(box, n, per_bucket);
+        const cuda::GridShape coarse = cuda::uniform_cells_shape(box, n, per_bucket, false);
+        const cuda::GridShape integer = cuda::uniform_cells_shape(box, n, per_bucket, true);
+        INFO("aspect " << aspect << ", n " << n << ", " << per_bucket << " a cell: room " << room.gx << " x " << room.gy
+                       << ", coarse " << coarse.gx << " x " << coarse.gy);
+        CHECK(coarse.gx <= room.gx);
+        CHECK(coarse.gy <= room.gy);
+        CHECK(integer.gx == room.gx);
+        CHECK(integer.gy == room.gy);
+        // About kUniformCellsScale times fewer cells, where there are enough to count and no
+        // axis is at make_grid_shape's cap of 16384.
+        if (room.gx >= 100 && room.gy >= 100 && room.gx < 16384 && room.gy < 16384)
+          CHECK(static_cast<double>(room.gx) * room.gy / (static_cast<double>(coarse.gx) * coarse.gy) ==
+                Approx(cuda::kUniformCellsScale).epsilon(0.05));
+      }
+    }
+  }
+}
+
 TEST_CASE("CUDA grid choice: uniform cells for evenly spread sites, quantile cells for clusters", "[cuda][grid]") {
   // The evenness test as the device runs it (evenness_bin over the quantile sample, then
   // evenly_spread), here on the CPU.
