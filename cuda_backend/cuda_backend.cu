@@ -1,6 +1,7 @@
 // The CUDA Backend: device selection, the one stream, pinned staging, stage timing, and the
 // dispatch to the per-site or block layout.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -140,6 +141,35 @@ std::vector<StageTime> StageTimer::collect() {
     out.push_back({m.name, static_cast<double>(ms)});
   }
   return out;
+}
+
+StreamTimeline::StreamTimeline() {
+  const char* env = std::getenv("EXPANSE_CUDA_STAR_TIMELINE");
+  on_ = env && std::strcmp(env, "1") == 0;
+}
+
+StreamTimeline::~StreamTimeline() {
+  for (auto& m : marks_) cudaEventDestroy(m.second);
+}
+
+void StreamTimeline::mark(const char* name, cudaStream_t stream) {
+  if (!on_) return;
+  cudaEvent_t e = nullptr;
+  EXPANSE_CUDA(cudaEventCreate(&e));
+  EXPANSE_CUDA(cudaEventRecord(e, stream));
+  marks_.emplace_back(name, e);
+}
+
+void StreamTimeline::print(const char* title) {
+  if (!on_ || marks_.empty()) return;
+  std::fprintf(stderr, "%s:", title);
+  for (auto& [name, e] : marks_) {
+    EXPANSE_CUDA(cudaEventSynchronize(e));
+    float ms = 0.0f;
+    EXPANSE_CUDA(cudaEventElapsedTime(&ms, marks_.front().second, e));
+    std::fprintf(stderr, " %s %.2f;", name.c_str(), ms);
+  }
+  std::fprintf(stderr, "\n");
 }
 
 RunCounters& last_run_counters() {

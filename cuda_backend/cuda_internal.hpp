@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backends/backend.hpp"
@@ -77,6 +78,24 @@ class StageTimer {
   };
   cudaStream_t stream_;
   std::vector<Mark> marks_;
+};
+
+/// When the work of each stream reached named points, measured from the first mark: which of
+/// the streams that run side by side ends a stage. Off unless EXPANSE_CUDA_STAR_TIMELINE=1 (a
+/// diagnostic: it prints to stderr).
+class StreamTimeline {
+ public:
+  StreamTimeline();
+  ~StreamTimeline();
+  StreamTimeline(const StreamTimeline&) = delete;
+  StreamTimeline& operator=(const StreamTimeline&) = delete;
+  void mark(const char* name, cudaStream_t stream);
+  /// Synchronises on every mark and prints them, in ms after the first.
+  void print(const char* title);
+
+ private:
+  bool on_ = false;
+  std::vector<std::pair<std::string, cudaEvent_t>> marks_;
 };
 
 /// The device a backend runs on and the one stream all its work goes to.

@@ -2,7 +2,8 @@
 // power of two the host's scan chose, duplicates merged (the smallest input index represents
 // each group), the sites put in Morton order; then grown by the per-site layout.
 //
-//   upload raw points -> scale -> Morton codes -> sort (stable: input order within a code)
+//   upload raw points -> Morton codes of the scaled points -> sort (stable: input order within a
+//     code) -> gather the scaled points
 //     -> merge: a point equal to an earlier one of its run of equal codes joins that one's group
 //     -> compact the groups' first points: the sites, already in Morton order (and, where points
 //        repeat, every input's representative)
@@ -14,8 +15,8 @@
 // Equal points have equal codes, so merging looks only through runs of equal codes (30 bits a
 // coordinate: distinct points share one only when closer than 2^-30 of the box). Where a run is
 // longer than kMergeRunLimit (many copies of few points, or a cluster finer than the
-// quantisation: kuzmin's centre at 2048^2 and up), equal points are found through a hash table
-// of the points instead (three more sorts, by y, x and the code, had made kuzmin's merge 11.9 ms
+// quantisation: kuzmin's centre at 2048^2 and up), equal points are found through hash tables,
+// one for each run of equal codes, instead (three more sorts, by y, x and the code, had made kuzmin's merge 11.9 ms
 // against uniform's 2.8 at 4096^2 on the H100). (A first version merged within cells of the star grid
 // and left crowded cells to the host: a quantile grid's central cell holds far more than its
 // share of a radial cluster, so kuzmin inputs went back to the host's preparation.)
@@ -33,34 +34,38 @@
 #include "cuda_internal.hpp"
 #include "input/morton.hpp"
 #include "input/parallel.hpp"
-#include "sorted_order_kernels.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
 
-/// Past this many points with one Morton code, equal points are found through a hash table, not by
+/// Past this many points with one Morton code, equal points are found through hash tables, not by
 /// looking back through the run.
 constexpr int kMergeRunLimit = 64;
 constexpr int kThreads = 256;
 int blocks_for(std::size_t n) { return static_cast<int>((n + kThreads - 1) / kThreads); }
 
 /// p * 2^e, exact: as InputScan::scaled (a multiplication by `factor`, or scalbn past 2^1023).
-__global__ void scale_kernel(double2* points, int n, int e, double factor) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  double2 p = points[i];
-  if (e <= 1023) {
-    p.x = __dmul_rn(p.x, factor);
-    p.y = __dmul_rn(p.y, factor);
-  } else {
-    p.x = scalbn(p.x, e);
-    p.y = scalbn(p.y, e);
+/// Applied where the raw points are read (codes, gather, hull), not in a pass of its own: one
+/// read and one write of every point fewer (268 MB each at 4096^2).
+struct InputScale {
+  int e;
+  double factor;
+
+  __device__ __forceinline__ double2 operator()(double2 p) const {
+    if (e <= 1023) return make_double2(__dmul_rn(p.x, factor), __dmul_rn(p.y, factor));
+    return make_double2(scalbn(p.x, e), scalbn(p.y, e));
   }
-  points[i] = p;
+};
+
+/// The scaled points in sorted order.
+__global__ void gather_scaled_kernel(const int* sorted_ids, const double2* raw, InputScale scale, int n,
+                                     double2* sorted) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) sorted[i] = scale(raw[sorted_ids[i]]);
 }
 
 /// flags[0] = 1 where a run of equal Morton codes is longer than kMergeRunLimit + 1: one look
-/// back a position (the codes are sorted). Such a run sends every point through the hash table
+/// back a position (the codes are sorted). Such a run sends every point through the runs' hash tables
 /// (kuzmin at 4096^2: most of its points lie in such runs), and first_equal_kernel is not run:
 /// its look back through the shorter runs around them had cost kuzmin 2.4 ms at 4096^2 on the
 /// H100 for results the hash table then replaced (session 14 call 2).
@@ -116,43 +121,82 @@ __device__ __forceinline__ std::uint64_t morton(double2 p, const Quantiser& q) {
   return morton_code(q.x(p.x), q.y(p.y));
 }
 
-__global__ void morton_kernel(const double2* points, int n, Quantiser q, std::uint64_t* codes, int* ids) {
+__global__ void morton_kernel(const double2* raw, InputScale scale, int n, Quantiser q, std::uint64_t* codes,
+                              int* ids) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  codes[i] = morton(points[i], q);
+  codes[i] = morton(scale(raw[i]), q);
   ids[i] = i;
 }
 
 /// The hash table's empty slot (cudaMemset's 0x7f bytes): above every position (n < 2^30).
 constexpr int kEmptySlot = 0x7f7f7f7f;
 
-/// A slot for point v in a table of mask + 1 slots; -0 hashes as +0 (the two are equal points).
-__device__ __forceinline__ unsigned hash_slot(double2 v, unsigned mask) {
+/// A hash of point v; -0 hashes as +0 (the two are equal points).
+__device__ __forceinline__ std::uint64_t point_hash(double2 v) {
   std::uint64_t z = static_cast<std::uint64_t>(__double_as_longlong(v.x == 0.0 ? 0.0 : v.x));
   z ^= static_cast<std::uint64_t>(__double_as_longlong(v.y == 0.0 ? 0.0 : v.y)) * 0x9E3779B97F4A7C15ull;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;  // splitmix64's finaliser
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<unsigned>(z) & mask;
+  return z ^ (z >> 31);
 }
 
-/// Where runs of equal codes are too long to search pairwise: every position p enters a table
-/// of positions (linear probing) under its point. A slot holds positions of one point only and
-/// ends at the smallest of them (atomicMin among equal points): the first in the stable sort,
-/// the smallest input index.
-__global__ void hash_insert_kernel(const double2* sorted, int n, int* table, unsigned mask) {
+/// key[p] = p where a run of equal codes starts, 0 elsewhere: their running maximum is every
+/// position's run start.
+__global__ void run_start_key_kernel(const std::uint64_t* codes, int n, int* key) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p < n) key[p] = (p == 0 || codes[p - 1] != codes[p]) ? p : 0;
+}
+
+struct MaximumOp {
+  __device__ __forceinline__ int operator()(int a, int b) const { return a > b ? a : b; }
+};
+
+/// length[s] = the length of the run that starts at s, written by its last position.
+__global__ void run_length_kernel(const std::uint64_t* codes, const int* start, int n, int* length) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p < n && (p == n - 1 || codes[p + 1] != codes[p])) length[start[p]] = p - start[p] + 1;
+}
+
+/// Where runs of equal codes are too long to search pairwise. Equal points have equal codes, so
+/// they lie in one run, and each run has a table of its own: twice its length, from slot twice
+/// its start (a table of 2n slots in all, at most half full). A warp's positions lie in one or
+/// a few runs, so its probes stay in a few kilobytes, where one table over all points had sent
+/// every probe to a random line of 128 MB (kuzmin 4096^2: 3.2 ms for the merge, H100, session 16).
+/// Every position p enters its run's table (linear probing) under its point. A slot holds
+/// positions of one point only and ends at the smallest of them (atomicMin among equal points):
+/// the first in the stable sort, the smallest input index.
+struct RunTables {
+  int* table;
+  const int* start;   ///< each position's run start
+  const int* length;  ///< at each run start, the run's length
+
+  /// p's first probe and its run's table (`size` slots from `base`).
+  __device__ __forceinline__ unsigned first_probe(int p, double2 v, int* base, unsigned* size) const {
+    const int s = start[p];
+    *size = 2u * static_cast<unsigned>(length[s]);
+    *base = 2 * s;
+    const std::uint64_t z = point_hash(v);
+    return (static_cast<std::uint32_t>(z) ^ static_cast<std::uint32_t>(z >> 32)) % *size;
+  }
+};
+
+__global__ void hash_insert_kernel(const double2* sorted, int n, RunTables runs) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= n) return;
   const double2 v = sorted[p];
-  for (unsigned h = hash_slot(v, mask);; h = (h + 1) & mask) {
-    int s = table[h];
+  int base;
+  unsigned size;
+  for (unsigned h = runs.first_probe(p, v, &base, &size);; h = h + 1 == size ? 0 : h + 1) {
+    int* slot = runs.table + base + h;
+    int s = *slot;
     if (s == kEmptySlot) {
-      s = atomicCAS(&table[h], kEmptySlot, p);
+      s = atomicCAS(slot, kEmptySlot, p);
       if (s == kEmptySlot) return;
     }
     const double2 w = sorted[s];  // a slot's point never changes, only its smallest position
     if (w.x == v.x && w.y == v.y) {
-      atomicMin(&table[h], p);
+      atomicMin(slot, p);
       return;
     }
   }
@@ -160,13 +204,14 @@ __global__ void hash_insert_kernel(const double2* sorted, int n, int* table, uns
 
 /// After hash_insert_kernel: first[p] = the first position of p's point; head[p] = 1 where
 /// that is p.
-__global__ void hash_first_kernel(const double2* sorted, int n, const int* table, unsigned mask, int* first,
-                                  int* head) {
+__global__ void hash_first_kernel(const double2* sorted, int n, RunTables runs, int* first, int* head) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= n) return;
   const double2 v = sorted[p];
-  for (unsigned h = hash_slot(v, mask);; h = (h + 1) & mask) {
-    const int s = table[h];
+  int base;
+  unsigned size;
+  for (unsigned h = runs.first_probe(p, v, &base, &size);; h = h + 1 == size ? 0 : h + 1) {
+    const int s = runs.table[base + h];
     const double2 w = sorted[s];
     if (w.x == v.x && w.y == v.y) {
       first[p] = s;
@@ -180,13 +225,13 @@ __global__ void hash_first_kernel(const double2* sorted, int n, const int* table
 /// x's and whose input index is x: the sort is stable, so within a run of equal codes the input
 /// indices ascend, and two binary searches find it (h of them, where an input-to-site map
 /// written for every point had cost a scatter of n).
-__global__ void hull_sites_kernel(const int* hull_input, int h, const double2* raw, Quantiser q,
+__global__ void hull_sites_kernel(const int* hull_input, int h, const double2* raw, InputScale scale, Quantiser q,
                                   const std::uint64_t* codes, const int* sorted_input, int n, const int* first,
                                   const int* slot, int* hull_sites) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= h) return;
   const int x = hull_input[t];
-  const std::uint64_t code = morton(raw[x], q);
+  const std::uint64_t code = morton(scale(raw[x]), q);
   int lo = 0, hi = n;  // the first position whose (code, input) is not below (code, x)
   while (lo < hi) {
     const int mid = lo + (hi - lo) / 2;
@@ -243,29 +288,29 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream);
     DeviceArray<int> d_first(n, stream), d_head(n, stream), d_slot(n, stream);
     DeviceArray<unsigned int> d_flags(1, stream);
-    std::size_t sort_bytes = 0, scan_bytes = 0;
+    std::size_t sort_bytes = 0, scan_bytes = 0, max_bytes = 0;
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_codes.get(), d_codes_sorted.get(), d_ids.get(),
                                                  d_sorted_ids.get(), static_cast<int>(n), 0, 2 * Quantiser::bits,
                                                  stream));
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, scan_bytes, d_head.get(), d_slot.get(), static_cast<int>(n),
                                                stream));
-    DeviceArray<unsigned char> d_temp(std::max(sort_bytes, scan_bytes), stream);
+    EXPANSE_CUDA(cub::DeviceScan::InclusiveScan(nullptr, max_bytes, d_first.get(), d_slot.get(), MaximumOp{},
+                                                static_cast<int>(n), stream));
+    DeviceArray<unsigned char> d_temp(std::max({sort_bytes, scan_bytes, max_bytes}), stream);
 
     // The sites' order: Morton codes as prepare_sites and the seam's bucket tree compute them.
     timer.begin("sort");
-    scale_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), static_cast<int>(n), input.scan.scale_exponent,
-                                                          input.scan.factor);
-    EXPANSE_CUDA(cudaGetLastError());
+    const InputScale scale{input.scan.scale_exponent, input.scan.factor};
     const Quantiser quantiser(bounds);
-    morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), static_cast<int>(n), quantiser,
+    morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), scale, static_cast<int>(n), quantiser,
                                                           d_codes.get(), d_ids.get());
     EXPANSE_CUDA(cudaGetLastError());
     std::size_t temp_bytes = d_temp.bytes();
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_codes.get(), d_codes_sorted.get(),
                                                  d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0,
                                                  2 * Quantiser::bits, stream));
-    gather_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), static_cast<int>(n),
-                                                          d_sorted.get());
+    gather_scaled_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), scale,
+                                                                 static_cast<int>(n), d_sorted.get());
     EXPANSE_CUDA(cudaGetLastError());
     timer.end();
 
@@ -282,17 +327,24 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
       EXPANSE_CUDA(cudaGetLastError());
     } else {
       // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
-      // finer than the quantisation): equal points found through a hash table of all points,
-      // at most half full.
-      std::size_t slots = 1;
-      while (slots < 2 * n) slots <<= 1;
-      DeviceArray<int> d_table(slots, stream);
+      // finer than the quantisation): equal points found through a hash table for each run.
+      // The unsorted codes and ids are free now: the runs' lengths go to the ids' array, their
+      // starts to the slots' (free until the scan below).
+      int* const run_start = d_slot.get();
+      int* const run_length = d_ids.get();
+      run_start_key_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), static_cast<int>(n),
+                                                                   d_first.get());
+      std::size_t max_bytes = d_temp.bytes();
+      EXPANSE_CUDA(cub::DeviceScan::InclusiveScan(d_temp.get(), max_bytes, d_first.get(), run_start, MaximumOp{},
+                                                  static_cast<int>(n), stream));
+      run_length_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), run_start, static_cast<int>(n),
+                                                                run_length);
+      DeviceArray<int> d_table(2 * n, stream);
       EXPANSE_CUDA(cudaMemsetAsync(d_table.get(), 0x7f, d_table.bytes(), stream));
-      const unsigned mask = static_cast<unsigned>(slots - 1);
-      hash_insert_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), d_table.get(),
-                                                                 mask);
-      hash_first_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), d_table.get(),
-                                                                mask, d_first.get(), d_head.get());
+      const RunTables runs{d_table.get(), run_start, run_length};
+      hash_insert_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), runs);
+      hash_first_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), runs,
+                                                                d_first.get(), d_head.get());
       EXPANSE_CUDA(cudaGetLastError());
     }
     temp_bytes = d_temp.bytes();
@@ -316,7 +368,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     d_hull_sites.emplace(h, stream);
     ctx.staging->upload(d_hull_input.get(), hull_input->data(), h * sizeof(int), stream);
     hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(
-        d_hull_input.get(), static_cast<int>(h), d_raw.get(), quantiser, d_codes_sorted.get(), d_sorted_ids.get(),
+        d_hull_input.get(), static_cast<int>(h), d_raw.get(), scale, quantiser, d_codes_sorted.get(), d_sorted_ids.get(),
         static_cast<int>(n), d_first.get(), d_slot.get(), d_hull_sites->get());
     EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaStreamSynchronize(stream));

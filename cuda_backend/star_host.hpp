@@ -6,6 +6,7 @@
 #error "star_host.hpp is host code: include it from C++ translation units only"
 #endif
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numeric>
 #include <thread>
@@ -28,6 +29,8 @@ struct StarWorkTotals {
   std::uint64_t max_work = 0;        ///< the most one site spent
   std::uint64_t sites_over_4096 = 0;
   std::uint64_t sites_over_budget = 0;
+  /// Sites whose work exceeds 2^11, 2^12, ... 2^16 units: what a smaller budget would defer.
+  std::array<std::uint64_t, 6> sites_over_pow2{};
   std::uint64_t deferred_undecided = 0;  ///< by reason (DeferReason); budget overruns count here
   std::uint64_t deferred_full_row = 0;
   std::uint64_t deferred_no_apex = 0;
@@ -137,6 +140,8 @@ class HostStarLayout {
         totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
         totals.sites_over_4096 += w.work > 4096;
         totals.sites_over_budget += w.work > budget;
+        for (std::size_t k = 0; k < totals.sites_over_pow2.size(); ++k)
+          totals.sites_over_pow2[k] += w.work > (1u << (11 + k));
         if (!w.ok) {
           info_[i] = kDeferredBit;
           ++totals.deferred;
@@ -169,6 +174,7 @@ class HostStarLayout {
       totals.max_work = std::max(totals.max_work, t.max_work);
       totals.sites_over_4096 += t.sites_over_4096;
       totals.sites_over_budget += t.sites_over_budget;
+      for (std::size_t k = 0; k < totals.sites_over_pow2.size(); ++k) totals.sites_over_pow2[k] += t.sites_over_pow2[k];
       totals.deferred_undecided += t.deferred_undecided;
       totals.deferred_full_row += t.deferred_full_row;
       totals.deferred_no_apex += t.deferred_no_apex;

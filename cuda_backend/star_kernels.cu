@@ -376,6 +376,18 @@ unsigned first_pass_budget(std::size_t sites, bool quantile_cells) {
 unsigned box_search_budget(std::size_t sites) {
   return sites <= (std::size_t{1} << 20) ? 1u << 13 : default_budget(StarSearch::boxes);
 }
+/// The second pass's budget for the sites away from the grid's edge (the edge's stream keeps the
+/// whole budget). Such a site runs long only in a sparse stretch of a clustered input, where the
+/// quantile cells are long and thin, and a lone warp walking one for 2^16 units held the stage
+/// for as long as 12 ms after everything else was done; the seam stage makes its triangles for
+/// far less. H100, 4096^2, GPU-only, two rounds (session 17 call 4), retry budget 2^16 / 2^15 /
+/// 2^14 / 2^13: gaussian 60.3 / 56.4 / 54.4 / 50.0 ms (7 / 8 / 12 / 22 sites deferred, the
+/// seam's growth 0.2 -> 0.5 ms), kuzmin 73.7 / 73.6 / 73.1 / 72.5 (41 / 135 / 661 / 1,737
+/// deferred: 0.012% of the triangles; the seam's growth 0.3 -> 6-10 ms on one host core, beside
+/// the output's remapping); uniform (no such site) unchanged; 2048^2 gaussian 25.2 -> 17.7.
+/// Hull-hugging sites are another matter (uniform 4096^2: 76 of them cost the seam 9 ms): they
+/// are the edge's. Up to 2^20 sites the whole budget is 2^13 already.
+unsigned interior_retry_budget(unsigned budget) { return std::min(budget, 1u << 13); }
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
 /// a site); an inbox (StarInbox) for every other site.
@@ -466,6 +478,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   timer.end();
 
   timer.begin("stars");
+  StreamTimeline timeline;
   // EXPANSE_CUDA_BLOCKS_PER_SM (6 or 8) caps the star kernel's registers so that that many
   // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
   // 64 at 8, 80 at 6). 6 for integer coordinates: a lattice's cocircular cells send most
@@ -519,6 +532,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         ctx.edge_stream && two_passes && !order ? (edge_env ? std::max(0, std::atoi(edge_env)) : 1) : 0;
     const EdgeCells edge =
         edge_depth > 0 ? EdgeCells{buckets.keys_sorted.get(), g.gx, g.gy, edge_depth} : EdgeCells{};
+    // The second pass of the sites the edge's stream does not take: interior_retry_budget
+    // (EXPANSE_CUDA_RETRY_BUDGET); with no edge set apart, every site's is `budget`.
+    const char* retry_env = std::getenv("EXPANSE_CUDA_RETRY_BUDGET");
+    const unsigned retry_budget = retry_env     ? static_cast<unsigned>(std::strtoul(retry_env, nullptr, 10))
+                                  : edge.keys ? interior_retry_budget(budget)
+                                              : budget;
     // The edge's site list and its own retry and undecided lists, and their counts in
     // counters[9..11]: its sites, its retries, its undecided.
     DeviceArray<int> d_edge(edge_depth > 0 ? 3 * n : 0, stream);
@@ -544,6 +563,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       cudaEvent_t fork = nullptr, join = nullptr;
+      timeline.mark("start", stream);
       if (edge.keys) {
         edge_list_kernel<<<blocks_for(n), kThreads, 0, stream>>>(edge, static_cast<int>(n), edge_sites, edge_counts);
         EXPANSE_CUDA(cudaEventCreateWithFlags(&fork, cudaEventDisableTiming));
@@ -563,9 +583,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
+        timeline.mark("edge first pass", es);
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
+        timeline.mark("edge retry", es);
         EXPANSE_CUDA(cudaEventRecord(join, es));
       }
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
@@ -577,6 +599,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
               g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
               pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox);
+          timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
@@ -586,14 +609,17 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
+        timeline.mark("undecided", stream);
       } else {
         walk_phases(star_kernel<StarSearch::boxes, blocks, exact>, star_kernel<StarSearch::boxes, blocks, exact, false, true>,
                     nullptr);
       }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
-            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, d_retry.get(),
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
+            d_retry.get(),
             d_counters.get() + 7);
+      timeline.mark("retry", stream);
       if (edge.keys) {
         EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
         EXPANSE_CUDA(cudaEventDestroy(fork));
@@ -797,6 +823,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   counters.uniform_cells = buckets.uniform();
   result.iterations = 1;
   result.device_stages = timer.collect();
+  timeline.print("star stage timeline (ms)");
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   result.host_stages.push_back({"cuda upload (host)", ms(host_start, host_uploaded)});
   result.host_stages.push_back({"cuda output allocation (host, while the device works)", ms(host_launched, host_allocated)});

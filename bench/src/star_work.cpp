@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
             {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},
             {"lane_share_32", double(t.work) / (32.0 * double(t.lockstep_work_32))},
             {"sites_over_4096", t.sites_over_4096}, {"sites_over_budget", t.sites_over_budget},
+            {"sites_over_2^11_to_2^16", t.sites_over_pow2},
             {"deferred", t.deferred}, {"deferred_undecided", t.deferred_undecided},
             {"deferred_full_row", t.deferred_full_row}, {"deferred_no_apex", t.deferred_no_apex},
             {"commit", bench::git_commit()}, {"date", bench::utc_now()}, {"machine", machine}, {"note", note}};

@@ -339,6 +339,26 @@ int main(int argc, char** argv) {
     std::vector<Point2> crowded = generate_points("uniform", 1000, 14);
     crowded.insert(crowded.end(), 100, crowded[7]);
     full_pipeline_case("device preparation: 101 copies of one point", crowded, options);
+    // A cluster finer than the quantisation (300 distinct points, 1e-13 apart, share a Morton
+    // code or two) with 60 copies among them: the merge's hash tables for each run. The
+    // representatives must be the host preparation's, input for input.
+    std::vector<Point2> fine = generate_points("uniform", 1000, 15);
+    for (int k = 0; k < 300; ++k) fine.push_back({0.5 + (k % 17) * 1e-13, 0.25 + (k / 17) * 1e-13});
+    for (int k = 0; k < 60; ++k) fine.push_back(fine[1000 + (k * 7) % 300]);
+    const std::string test = "device preparation: a cluster finer than the quantisation, with copies";
+    full_pipeline_case(test, fine, options);
+    try {
+      const Mesh mesh = triangulate(fine, options);
+      const SiteSet host = prepare_sites(fine);
+      if (mesh.representative != host.representative)
+        fail(test, "representatives differ from the host preparation's");
+      else if (host.points.size() != fine.size() - 60)
+        fail(test, "the case has not the copies it was built with");
+      else
+        std::printf("ok   %s: representatives as the host's (%zu sites)\n", test.c_str(), host.points.size());
+    } catch (const Error& e) {
+      fail(test, std::string("threw ") + e.what());
+    }
   }
 
   if (!small) {
@@ -354,6 +374,30 @@ int main(int argc, char** argv) {
     with_neighbors.neighbors = true;
     full_pipeline_case("uniform, work budget 150", generate_points("uniform", 20000, 6), with_neighbors);
     unsetenv("EXPANSE_CUDA_BUDGET");
+    // The interior sites' second pass with a budget of its own (interior_retry_budget; here 96
+    // units, while the edge's keep the whole): the sites it gives up on defer, and the seam
+    // stage makes their triangles.
+    setenv("EXPANSE_CUDA_RETRY_BUDGET", "96", 1);
+    setenv("EXPANSE_CUDA_FIRST_BUDGET", "64", 1);
+    {
+      const std::string test = "interior second pass, budget 96: gaussian n=20000";
+      try {
+        const std::vector<Point2> points = generate_points("gaussian", 20000, 8);
+        const Mesh mesh = triangulate(points, with_neighbors);
+        const CheckReport report = check_mesh(points, mesh);
+        if (!report.ok)
+          fail(test, report.problems.empty() ? "check_mesh failed" : report.problems.front());
+        else if (mesh.stats.deferred_expansions == 0)
+          fail(test, "nothing deferred: the case tests nothing");
+        else
+          std::printf("ok   %s: %zu triangles (seam %zu, deferred %zu)\n", test.c_str(), mesh.triangles.size(),
+                      mesh.stats.seam_triangles, mesh.stats.deferred_expansions);
+      } catch (const Error& e) {
+        fail(test, std::string("threw ") + e.what());
+      }
+    }
+    unsetenv("EXPANSE_CUDA_RETRY_BUDGET");
+    unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
     // Interop: points already on the device, work on the caller's stream.
     try {
       auto points = generate_points("uniform", 5000, 9);
