@@ -361,10 +361,16 @@ constexpr int kThreads = 256;
 /// the start. H100, star kernels, alternated (session 14 calls 2-3): kuzmin 4096^2 81.6 -> 77.5
 /// ms, 2048^2 22.0-23.2 -> 21.2-21.5, but 1024^2 7.3-7.5 -> 7.9-8.3; gaussian 4096^2 62.7 ->
 /// 62.3, 2048^2 23.45 -> 23.75. Uniform inputs, on uniform cells, had lost 2% (session 13
-/// call 2).
+/// call 2). And 2^12 above 2^23 sites: the larger the input, the longer its stretched cells, and
+/// at 4096^2 kuzmin has 12,570 sites between 2^11 and 2^12 units (counted on the CPU) that a warp
+/// walked again from the start. H100, GPU-only, two rounds (session 17 call 6, with the interior
+/// retry at 2^13), 2^11 / 3 * 2^10 / 2^12: kuzmin 4096^2 72.6-72.8 / 71.0-71.4 / 69.8-70.0 ms,
+/// gaussian 4096^2 49.1-50.1 / 49.9-52.7 / 50.4-50.7; at 2048^2 2^12 lost (kuzmin 23.3-23.7 ->
+/// 25.1-25.5, gaussian 17.8-17.9 -> 18.7).
 unsigned first_pass_budget(std::size_t sites, bool quantile_cells) {
   if (sites <= (std::size_t{1} << 18)) return 1u << 8;
-  return quantile_cells && sites > (std::size_t{1} << 20) ? 1u << 11 : 1u << 10;
+  if (!quantile_cells || sites <= (std::size_t{1} << 20)) return 1u << 10;
+  return sites > (std::size_t{1} << 23) ? 1u << 12 : 1u << 11;
 }
 /// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
 /// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes

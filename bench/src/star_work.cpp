@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   app.add_option("--budget", budget, "work units after which a site defers (default: the kernel's)");
   app.add_option("--sites-per-bucket", sites_per_bucket,
                  "mean sites per grid cell (the layout's; CUDA's uniform cells hold 1.75 times as many for non-integer sites)");
-  app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (the kernel: 2^10; 2^11 on quantile cells above 2^20 sites)");
+  app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (the kernel: 2^10; on quantile cells 2^11 above 2^20 sites, 2^12 above 2^23)");
   app.add_option("--threads", threads, "host threads walking the stars");
   app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")
       ->delimiter(',')
