@@ -112,7 +112,8 @@ class HostStarLayout {
     info_.assign(n, 0);
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
-    std::vector<std::uint32_t> work_of(n, 0);
+    work_of_.assign(n, 0);
+    std::vector<std::uint32_t>& work_of = work_of_;
     const int phases = two_phases && search == StarSearch::boxes ? 2 : 1;
     std::vector<int> inbox_slots(phases == 2 ? (n / 2 + 1) * kInboxWords : 0, -1);
     std::vector<std::uint32_t> inbox_counts(phases == 2 ? n / 2 + 1 : 0, 0);
@@ -223,6 +224,18 @@ class HostStarLayout {
     return out;
   }
 
+  /// Work (cells + sites visited) of local site i's last walk by walk_all().
+  std::uint32_t site_work(std::size_t i) const { return work_of_[i]; }
+
+  /// Sites in the cell of local site i.
+  std::uint32_t cell_occupancy(std::size_t i) const {
+    const double2 p = points_[i];
+    const std::size_t key = static_cast<std::size_t>(grid_.cell_y(p.y)) * grid_.gx + grid_.cell_x(p.x);
+    return cell_start_[key + 1] - cell_start_[key];
+  }
+
+  std::size_t site_count() const { return points_.size(); }
+
   /// Indexed by SiteSet id: whether that site's star deferred.
   std::vector<bool> deferred_sites() const {
     std::vector<bool> out(points_.size());
@@ -248,6 +261,7 @@ class HostStarLayout {
   std::vector<int> pred_;
   std::vector<int> star_;
   std::vector<std::uint32_t> info_;
+  std::vector<std::uint32_t> work_of_;
 };
 
 }  // namespace expanse::detail::cuda

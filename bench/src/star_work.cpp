@@ -4,11 +4,12 @@
 // sites defer to the seam stage. One JSON line per (distribution, n, grid).
 // With --first-pass B (box searches), also what the kernel's light first pass (walk_star_boxes'
 // FirstPass) does with a budget of B: the sites it hands on to the second pass, for an undecided
-// candidate or for running past B, and its predicates.
+// candidate or for running past B, and its predicates. With --by-occupancy, the sites' share and
+// work split by how many sites their cell holds.
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
 //                           [--search boxes,rings] [--budget N] [--first-pass B] [--threads 2]
-//                           [-o FILE.jsonl] [--note TEXT]
+//                           [--by-occupancy] [-o FILE.jsonl] [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
   std::vector<int> phase_counts{1};
   unsigned budget = 0;  // the kernel's default for each search
   unsigned first_pass = 0;  // 0: not counted
+  bool by_occupancy = false;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -51,6 +53,8 @@ int main(int argc, char** argv) {
   app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")
       ->delimiter(',')
       ->check(CLI::IsMember({1, 2}));
+  app.add_flag("--by-occupancy", by_occupancy,
+               "also split the sites by how many sites their cell holds: share of sites and work a site per class");
   CLI11_PARSE(app, argc, argv);
 
   bench::JsonLinesOutput sink(output);
@@ -100,6 +104,31 @@ int main(int argc, char** argv) {
             for (int k = 0; k < 3; ++k) sum[k] += q[k];
           record["first_pass"] = {{"budget", first_pass}, {"handed_on", sum[0]}, {"over_budget", sum[1]},
                                   {"predicates_per_site", double(sum[2]) / double(count)}};
+        }
+        if (by_occupancy) {
+          // Classes of cell occupancy 1, 2-3, 4-7, 8-15, ...: how evenly the cells spread the sites,
+          // and what a site costs where its cell is emptier or fuller than the mean (quantile cells
+          // crowd on the diagonals of a radial density's tail: kuzmin 4096^2 has cells of 2,000).
+          std::vector<std::uint64_t> class_sites, class_work;
+          for (std::size_t i = 0; i < layout.site_count(); ++i) {
+            const std::uint32_t occupancy = layout.cell_occupancy(i);
+            std::size_t c = 0;
+            while ((2u << c) <= occupancy) ++c;
+            if (c >= class_sites.size()) {
+              class_sites.resize(c + 1, 0);
+              class_work.resize(c + 1, 0);
+            }
+            ++class_sites[c];
+            class_work[c] += layout.site_work(i);
+          }
+          nlohmann::ordered_json classes = nlohmann::json::array();
+          for (std::size_t c = 0; c < class_sites.size(); ++c)
+            if (class_sites[c] > 0)
+              classes.push_back({{"occupancy_from", 1u << c},
+                                 {"occupancy_to", (2u << c) - 1},
+                                 {"site_share", double(class_sites[c]) / double(t.sites)},
+                                 {"work_per_site", double(class_work[c]) / double(class_sites[c])}});
+          record["by_occupancy"] = classes;
         }
         out << record.dump() << std::endl;
       }

@@ -209,6 +209,20 @@ TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overfl
     // site here is a hull-hugging one whose thin, tall regions span some 60 rows per search.
     CHECK(totals.max_work < (search == cuda::StarSearch::rings ? 2000u : 8000u));
     CHECK(totals.deferred == 0);
+    // The per-site figures the work count splits by cell: they add up to the totals, and each
+    // site's cell is its own (its k sites each add 1/k: a whole number of occupied cells).
+    std::uint64_t work = 0, most = 0;
+    double cells = 0.0;
+    for (std::size_t i = 0; i < layout.site_count(); ++i) {
+      work += layout.site_work(i);
+      most = std::max<std::uint64_t>(most, layout.site_work(i));
+      REQUIRE(layout.cell_occupancy(i) >= 1);
+      cells += 1.0 / layout.cell_occupancy(i);
+    }
+    CHECK(work == totals.work);
+    CHECK(most == totals.max_work);
+    CHECK(std::abs(cells - std::round(cells)) < 1e-6);
+    CHECK(std::round(cells) <= static_cast<double>(sites.points.size()));
   }
 }
 
