@@ -123,11 +123,16 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
                                                               unsigned int* counters, unsigned budget,
                                                               const int* order, WalkPass pass, int* retry_list,
                                                               int* undecided_list, EdgeCells edge,
-                                                              int phases, int phase, StarInbox inbox) {
+                                                              int phases, int phase, StarInbox inbox,
+                                                              bool ends_first = false) {
   // Thread t walks local site order[t], or the t-th site of its phase (StarInbox): cell order
   // measured faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms;
   // kuzmin: 629 vs 733 ms). Morton order walks in one phase.
-  const int t = (blockIdx.x * blockDim.x + threadIdx.x) * phases + phase;
+  // ends_first: blocks are launched from both ends of the cell order inwards (block 0, the last,
+  // block 1, the one before the last, ...), so that the heaviest rows start early (see grow_per_site).
+  int b = static_cast<int>(blockIdx.x);
+  if (ends_first) b = (b & 1) ? static_cast<int>(gridDim.x) - 1 - (b >> 1) : (b >> 1);
+  const int t = (b * static_cast<int>(blockDim.x) + static_cast<int>(threadIdx.x)) * phases + phase;
   if (t >= n) return;
   const int i = order ? order[t] : t;
   if (edge.holds(i)) return;  // the edge stream walks it
@@ -558,6 +563,18 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // (star kernels 40.8 -> 33.5), kuzmin 89.1 -> 75.0, gaussian 70.4 -> 59.1, grid 27.5 ->
     // 25.0; 1024^2 -4% to -9%. At 512^2, half a wave of blocks a phase, kuzmin lost 4% (4.8 ->
     // 5.0 ms) while uniform, gaussian and grid were no slower.
+    // On quantile cells the phases' blocks start from both ends of the cell order (star_kernel's
+    // ends_first): its first and last rows hold the far tails in y, whose sites walk longest
+    // (counted on the CPU, kuzmin 4096^2: the first and last twentieth of the blocks cost twice
+    // the others), and in order the last of them made the kernel's tail (ncu, call 2: kuzmin's first
+    // phase kept its multiprocessors active 93% of its cycles, uniform's 99.7%). H100, GPU-only,
+    // two rounds against the cell order (session 18 call 4): gaussian 4096^2 49.98 / 50.55 ->
+    // 48.63 / 49.26 ms, kuzmin 4096^2 69.46 / 69.52 -> 68.14 / 69.45 (its first phase 40.7 -> 39.0,
+    // the edge's stream then later), kuzmin 2048^2 23.45 / 23.52 -> 23.05 / 22.61; uniform inputs
+    // unchanged (4096^2 40.51 / 40.53 -> 40.60 / 40.62), so uniform cells keep the order.
+    // EXPANSE_CUDA_BLOCK_ORDER=cells or =ends forces one.
+    const char* block_order_env = std::getenv("EXPANSE_CUDA_BLOCK_ORDER");
+    const bool ends_first = block_order_env ? std::strcmp(block_order_env, "ends") == 0 : !buckets.uniform();
     const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
     const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
     const int phases = two && !order ? 2 : 1;
@@ -604,7 +621,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           if (sites == 0) continue;
           (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
               g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-              pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox);
+              pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
         }
       };

@@ -14,6 +14,8 @@ for arg in sys.argv[2:]:
     print('%s: lane mean %.1f, warp mean %.1f (a warp lasts as long as its busiest lane)' % (dist, even.mean(), warp.mean()))
     for threads in (128, 64, 32):  # a block holds its slot until its slowest warp is done
         print('   blocks of %3d: block mean per warp %.1f' % (threads, warp.reshape(-1, threads // 32).max(axis=1).mean()))
+    blocks = warp.reshape(-1, 4).max(axis=1)
+    print('   blocks of 128, mean cost by twentieth of the cell order:', ' '.join('%.0f' % x.mean() for x in np.array_split(blocks, 20)))
     for t in (512, 1024, 2048):
         print('   warps whose busiest lane passes %4d: %.3f of the warps, %.3f of the warp time' % (t, (warp > t).mean(), warp[warp > t].sum() / warp.sum()))
     try:
