@@ -37,6 +37,12 @@ EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, i
   return -1;
 }
 
+/// The block that launch slot `b` of `blocks` runs when blocks start from both ends of the order
+/// inwards: 0, blocks - 1, 1, blocks - 2, ... (a permutation: every block runs once). On quantile
+/// cells the first and last rows of the cell order hold the far tails in y, whose walks are the
+/// longest; launched last, they made the phase's tail (grow_per_site).
+EXPANSE_DEVICE_FORCE int ends_first_block(int b, int blocks) { return (b & 1) ? blocks - 1 - (b >> 1) : b >> 1; }
+
 /// Two phases of walks: the sites of even local id first, then the odd ones (a cell's sites fall
 /// in both). A finished walk of the first phase posts, to each odd neighbour w, the two
 /// triangles it shares with w, as the triple (b, u, a): around w, counter-clockwise, b comes just

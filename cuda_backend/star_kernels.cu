@@ -128,10 +128,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   // Thread t walks local site order[t], or the t-th site of its phase (StarInbox): cell order
   // measured faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms;
   // kuzmin: 629 vs 733 ms). Morton order walks in one phase.
-  // ends_first: blocks are launched from both ends of the cell order inwards (block 0, the last,
-  // block 1, the one before the last, ...), so that the heaviest rows start early (see grow_per_site).
-  int b = static_cast<int>(blockIdx.x);
-  if (ends_first) b = (b & 1) ? static_cast<int>(gridDim.x) - 1 - (b >> 1) : (b >> 1);
+  const int b = ends_first ? ends_first_block(static_cast<int>(blockIdx.x), static_cast<int>(gridDim.x))
+                           : static_cast<int>(blockIdx.x);
   const int t = (b * static_cast<int>(blockDim.x) + static_cast<int>(threadIdx.x)) * phases + phase;
   if (t >= n) return;
   const int i = order ? order[t] : t;
@@ -563,8 +561,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // (star kernels 40.8 -> 33.5), kuzmin 89.1 -> 75.0, gaussian 70.4 -> 59.1, grid 27.5 ->
     // 25.0; 1024^2 -4% to -9%. At 512^2, half a wave of blocks a phase, kuzmin lost 4% (4.8 ->
     // 5.0 ms) while uniform, gaussian and grid were no slower.
-    // On quantile cells the phases' blocks start from both ends of the cell order (star_kernel's
-    // ends_first): its first and last rows hold the far tails in y, whose sites walk longest
+    // On quantile cells the phases' blocks start from both ends of the cell order
+    // (ends_first_block): its first and last rows hold the far tails in y, whose sites walk longest
     // (counted on the CPU, kuzmin 4096^2: the first and last twentieth of the blocks cost twice
     // the others), and in order the last of them made the kernel's tail (ncu, call 2: kuzmin's first
     // phase kept its multiprocessors active 93% of its cycles, uniform's 99.7%). H100, GPU-only,

@@ -226,6 +226,22 @@ TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overfl
   }
 }
 
+TEST_CASE("CUDA star phases: blocks launched from both ends of the order run every block once", "[cuda][star]") {
+  for (const int blocks : {1, 2, 3, 4, 5, 64, 65, 65537}) {
+    std::vector<int> runs(blocks, 0);
+    for (int b = 0; b < blocks; ++b) {
+      const int block = cuda::ends_first_block(b, blocks);
+      REQUIRE(block >= 0);
+      REQUIRE(block < blocks);
+      ++runs[block];
+    }
+    CHECK(std::all_of(runs.begin(), runs.end(), [](int r) { return r == 1; }));
+    // Both ends first: the first two slots run the first and the last block.
+    CHECK(cuda::ends_first_block(0, blocks) == 0);
+    if (blocks > 1) CHECK(cuda::ends_first_block(1, blocks) == blocks - 1);
+  }
+}
+
 TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of the region", "[cuda][star]") {
   // clip_row prunes rows with floating-point margins; a site it wrongly cut away could be a
   // better apex the search never sees. Random edges, candidates and sites, on a uniform and a
