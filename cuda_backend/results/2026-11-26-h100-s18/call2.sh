@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Session 18 call 2: where kuzmin's first phase spends the time uniform's does not. ncu source
 # counters of the first phase's kernel (star_kernel, phase 0) at 4096^2, kuzmin then uniform, in one
-# call on call 1's build (its default path is HEAD's), tabulated by source line (source_lines.py).
+# call on call 1's build (its default path is HEAD's), tabulated by source line (session 16's source_lines.py; it ran from a copy in this folder, since removed).
 set -u
 bash bench/device/run-on-device.sh env >/dev/null
 export LD_LIBRARY_PATH=$PWD/.devrun/lib
@@ -13,5 +13,5 @@ for d in kuzmin uniform; do
   $NCU -i /tmp/phase0-$d.ncu-rep --page source --csv --print-source cuda,sass > $OUT/call2-cuda-sass-$d.csv 2>&1; echo "export $d rc $?"
   $NCU -i /tmp/phase0-$d.ncu-rep --page details --csv >> $OUT/call2-ncu-$d.log 2>&1
   xz -6 $OUT/call2-cuda-sass-$d.csv
-  python3 cuda_backend/results/2026-11-26-h100-s18/source_lines.py $OUT/call2-cuda-sass-$d.csv.xz | head -40
+  python3 cuda_backend/results/2026-11-25-h100-s16/source_lines.py $OUT/call2-cuda-sass-$d.csv.xz | head -40
 done
