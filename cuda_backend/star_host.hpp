@@ -113,7 +113,6 @@ class HostStarLayout {
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
     work_of_.assign(n, 0);
-    std::vector<std::uint32_t>& work_of = work_of_;
     const int phases = two_phases && search == StarSearch::boxes ? 2 : 1;
     std::vector<int> inbox_slots(phases == 2 ? (n / 2 + 1) * kInboxWords : 0, -1);
     std::vector<std::uint32_t> inbox_counts(phases == 2 ? n / 2 + 1 : 0, 0);
@@ -135,7 +134,7 @@ class HostStarLayout {
           w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), s, row, budget)
                              : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), s, row, budget);
         ++totals.sites;
-        work_of[i] = w.work;
+        work_of_[i] = w.work;
         totals.predicates += w.predicates;
         totals.work += w.work;
         totals.max_work = std::max<std::uint64_t>(totals.max_work, w.work);
@@ -187,7 +186,7 @@ class HostStarLayout {
       for (std::size_t phase = 0; phase < stride; ++phase)
         for (std::size_t first = phase; first < n; first += group * stride) {
           std::uint32_t most = 0;
-          for (std::size_t i = first; i < std::min(n, first + group * stride); i += stride) most = std::max(most, work_of[i]);
+          for (std::size_t i = first; i < std::min(n, first + group * stride); i += stride) most = std::max(most, work_of_[i]);
           sum += most;
         }
       return sum;
