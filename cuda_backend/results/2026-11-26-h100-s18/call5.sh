@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Session 18 call 5 (NOT RUN: the session's device time ran out; the next session's first call):
+# Session 18 call 5 (run at the start of session 19, 2026-11-26, on 8f27b71):
 # the final build (the ends-first block order the default on quantile cells)
 # against the cell order (EXPANSE_CUDA_BLOCK_ORDER=cells), 2048^2 and 4096^2, four inputs, two
 # rounds alternated; CUDA tests; the four sanitizers; conformance on CUDA last (what the device
