@@ -124,6 +124,9 @@ struct GridView {
   const double* yb = nullptr;
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)
   QuantileGuide x_guide, y_guide;  ///< quantile kind, optional: where to start searching
+  /// An apex search's first box (star_scan.cuh): half-width first_reach * |ab|_1 / 2 around the
+  /// point first_offset * |ab| / 2 left of the edge's midpoint (first_box_shape in star_grid.hpp).
+  double first_reach = 1.0, first_offset = 1.0;
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').

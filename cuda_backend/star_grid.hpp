@@ -105,6 +105,31 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
 }
 
 
+/// The first box of every apex search (GridView::first_reach, first_offset). star.comp's box,
+/// reach and offset 1, for every grid until measured otherwise; EXPANSE_CUDA_FIRST_BOX=reach,offset
+/// sets both (for comparisons).
+struct FirstBoxShape {
+  double reach = 1.0, offset = 1.0;
+};
+inline FirstBoxShape first_box_shape(bool uniform_cells) {
+  FirstBoxShape shape;
+  (void)uniform_cells;
+  if (const char* env = std::getenv("EXPANSE_CUDA_FIRST_BOX")) {
+    char* end = nullptr;
+    const double reach = std::strtod(env, &end);
+    if (end != env && *end == ',') {
+      const double offset = std::strtod(end + 1, nullptr);
+      if (reach > 0.0 && offset >= 0.0) shape = {reach, offset};
+    }
+  }
+  return shape;
+}
+inline void apply_first_box(GridView& g, bool uniform_cells) {
+  const FirstBoxShape shape = first_box_shape(uniform_cells);
+  g.first_reach = shape.reach;
+  g.first_offset = shape.offset;
+}
+
 /// How many coordinates the quantile boundaries are taken from.
 inline int quantile_sample_count(std::size_t n) {
   return static_cast<int>(std::min<std::size_t>(n, std::size_t{1} << 18));

@@ -238,13 +238,24 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
   return offset[o] + __popc(owned[o] & ((1u << q) - 1u));
 }
 
+/// Output index of triangle q of non-deferred site o's star (the triangle (o, star q, star q + 1)),
+/// when o owns it; -1 when not (its owner is one of the other two).
+__device__ __forceinline__ int owned_triangle_index(const int* offset, const std::uint32_t* owned, int o, int q) {
+  const std::uint32_t mask = owned[o];
+  return (mask >> q) & 1u ? offset[o] + __popc(mask & ((1u << q) - 1u)) : -1;
+}
+
 /// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
 /// lies across the edge opposite vertex j. Its owner is its first vertex (rank: site id -> local
 /// id), and its place in the owner's star the owned bit of its rank among the owner's triangles.
+/// A neighbour is also a triangle of a star already at hand (the owner's, on either side of k;
+/// the one found across the edge opposite the owner): where that star's site owns it, its index
+/// is that site's owned bits, with no search of its owner's star (`known_places`; false searches
+/// as before, for comparisons).
 __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
                                                              const int* offset, const std::uint32_t* owned,
                                                              const int* triangles, const int* rank, int n,
-                                                             int capacity, int* neighbors) {
+                                                             int capacity, int* neighbors, bool known_places) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   const int total = offset[n];
   if (k >= total || total > capacity) return;
@@ -260,16 +271,29 @@ __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, co
   const std::uint32_t ia = info[a], ib = info[b];
   if (!star_deferred(ia)) {
     const int p = star_find(star, ia, a, b);
-    if (p >= 0 && (p > 0 || star_closed(ia))) r = star_at(star, ia, a, p - 1);
+    if (p >= 0 && (p > 0 || star_closed(ia))) {
+      const int q = p > 0 ? p - 1 : star_degree(ia) - 1;  // (a, r, b) is a's triangle q
+      r = star_at(star, ia, a, q);
+      if (known_places) across_ab = owned_triangle_index(offset, owned, a, q);
+    }
   } else if (!star_deferred(ib)) {
-    const int q = star_find(star, ib, b, a);
-    if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) r = star_at(star, ib, b, q + 1);
+    const int q = star_find(star, ib, b, a);  // (b, a, r) is b's triangle q
+    if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) {
+      r = star_at(star, ib, b, q + 1);
+      if (known_places) across_ab = owned_triangle_index(offset, owned, b, q);
+    }
   }
-  if (r >= 0) across_ab = triangle_index(star, info, offset, owned, b, a, r);
-  int across_bi = -1;  // opposite a: (i, b, next)
-  if (closed || t + 2 < deg) across_bi = triangle_index(star, info, offset, owned, i, b, star_at(star, inf, i, t + 2));
-  int across_ia = -1;  // opposite b: (i, previous, a)
-  if (closed || t >= 1) across_ia = triangle_index(star, info, offset, owned, i, star_at(star, inf, i, t - 1), a);
+  if (r >= 0 && across_ab < 0) across_ab = triangle_index(star, info, offset, owned, b, a, r);
+  int across_bi = -1;  // opposite a: (i, b, next), i's triangle t + 1
+  if (closed || t + 2 < deg) {
+    if (known_places) across_bi = owned_triangle_index(offset, owned, i, t + 1 < deg ? t + 1 : 0);
+    if (across_bi < 0) across_bi = triangle_index(star, info, offset, owned, i, b, star_at(star, inf, i, t + 2));
+  }
+  int across_ia = -1;  // opposite b: (i, previous, a), i's triangle t - 1
+  if (closed || t >= 1) {
+    if (known_places) across_ia = owned_triangle_index(offset, owned, i, t >= 1 ? t - 1 : deg - 1);
+    if (across_ia < 0) across_ia = triangle_index(star, info, offset, owned, i, star_at(star, inf, i, t - 1), a);
+  }
   nb[0] = across_ab;
   nb[1] = across_bi;
   nb[2] = across_ia;
@@ -476,6 +500,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   static_assert(2 * sizeof(QuantileGuideKey) == 16 * sizeof(unsigned int));
   buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
+  apply_first_box(g, buckets.uniform());
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
@@ -680,6 +705,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const bool with_neighbors = true;
   DeviceArray<int> d_triangles(3 * full, stream);
   DeviceArray<int> d_neighbors(with_neighbors ? 3 * full : 0, stream);
+  // EXPANSE_CUDA_EMIT=search finds every neighbour in its owner's star (for comparisons).
+  const char* emit_env = std::getenv("EXPANSE_CUDA_EMIT");
+  const bool known_places = !(emit_env && std::strcmp(emit_env, "search") == 0);
   timer.begin("emit");
   // The owned counts are scanned: their array takes each site's owned bitmask now.
   std::uint32_t* const d_owned_mask = reinterpret_cast<std::uint32_t*>(d_owned.get());
@@ -689,7 +717,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (with_neighbors && full > 0)
     emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(
         d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, d_triangles.get(), d_rank.get(),
-        static_cast<int>(n), static_cast<int>(full), d_neighbors.get());
+        static_cast<int>(n), static_cast<int>(full), d_neighbors.get(), known_places);
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 

@@ -560,11 +560,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       bounds.disc = false;
       bounds.a = pa;
       bounds.b = pb;
-      // First box: half-width |ab|_1 / 2 around the point |ab| / 2 left of the midpoint, a guess
-      // at where the empty circle lies (star.comp's; any box is correct).
+      // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
+      // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
       const double bax = pb.x - pa.x, bay = pb.y - pa.y;
-      const double cx = 0.5 * (pa.x + pb.x) - 0.5 * bay, cy = 0.5 * (pa.y + pb.y) + 0.5 * bax;
-      const double r = 0.5 * (fabs(bax) + fabs(bay));
+      const double lean = 0.5 * g.first_offset;
+      const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
+      const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
       target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
       y = target.y0 - 1;
       big_scan = box_cells(target) > kBigScanCells;
