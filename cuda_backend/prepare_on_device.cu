@@ -3,7 +3,8 @@
 // each group), the sites put in Morton order; then grown by the per-site layout.
 //
 //   upload raw points -> Morton codes of the scaled points -> sort (stable: input order within a
-//     code) -> gather the scaled points
+//     code; by the codes' top 32 bits where a sample says they nearly tell the points apart,
+//     each run of equal keys then ordered by the whole code) -> gather the scaled points
 //     -> merge: a point equal to an earlier one of its run of equal codes joins that one's group
 //     -> compact the groups' first points: the sites, already in Morton order (and, where points
 //        repeat, every input's representative)
@@ -34,6 +35,7 @@
 #include "cuda_internal.hpp"
 #include "input/morton.hpp"
 #include "input/parallel.hpp"
+#include "star_grid.hpp"
 
 namespace expanse::detail::cuda {
 namespace {
@@ -127,6 +129,91 @@ __global__ void morton_kernel(const double2* raw, InputScale scale, int n, Quant
   if (i >= n) return;
   codes[i] = morton(scale(raw[i]), q);
   ids[i] = i;
+}
+
+/// The short sort: by the top 32 of the codes' 2 * Quantiser::bits bits (4 radix passes of 8 bytes
+/// an element, where the whole code takes 8 of 12), then each run of equal keys ordered by its
+/// whole codes. Where the sites are spread out, as uniform inputs, grids and gaussian clusters
+/// are over their box, such runs are rare and short; a dense cluster in a wide box (kuzmin's
+/// centre) puts millions of points in a few keys, and takes the full sort.
+constexpr int kShortKeyShift = 2 * Quantiser::bits - 32;
+/// The longest run of equal short keys a thread orders (an insertion sort by the whole code); a
+/// longer run sends the input through the full sort. Not above kMergeRunLimit: the merge then
+/// needs no check for long runs of equal codes.
+constexpr int kShortRunLimit = 32;
+static_assert(kShortRunLimit <= kMergeRunLimit);
+/// Sampled points whose short keys decide between the sorts (any two equal: the full sort).
+constexpr int kShortKeySamples = 4096;
+
+__global__ void short_key_kernel(const double2* raw, InputScale scale, int n, Quantiser q, std::uint32_t* keys,
+                                 int* ids) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  keys[i] = static_cast<std::uint32_t>(morton(scale(raw[i]), q) >> kShortKeyShift);
+  ids[i] = i;
+}
+
+/// flags[0] = 1 where a run of equal short keys (sorted) is longer than kShortRunLimit.
+__global__ void short_run_check_kernel(const std::uint32_t* keys, int n, unsigned int* flags) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p >= kShortRunLimit && p < n && keys[p - kShortRunLimit] == keys[p]) atomicOr(flags, 1u);
+}
+
+/// Each run of equal short keys (at most kShortRunLimit long) ordered by (whole code, input
+/// index), as the full sort orders it: a thread per run, from its first position. The short sort
+/// is stable, so a run's input indices ascend, and an insertion sort keeps them so among equal
+/// codes.
+__global__ void short_run_order_kernel(const std::uint32_t* keys, const double2* raw, InputScale scale, Quantiser q,
+                                       int n, int* sorted_ids) {
+  const int p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p + 1 >= n || keys[p + 1] != keys[p] || (p > 0 && keys[p - 1] == keys[p])) return;
+  int end = p + 2;
+  while (end < n && keys[end] == keys[p]) ++end;
+  std::uint64_t codes[kShortRunLimit];
+  int ids[kShortRunLimit];
+  const int length = end - p;
+  for (int k = 0; k < length; ++k) {
+    const int id = sorted_ids[p + k];
+    const std::uint64_t code = morton(scale(raw[id]), q);
+    int j = k;
+    for (; j > 0 && codes[j - 1] > code; --j) {
+      codes[j] = codes[j - 1];
+      ids[j] = ids[j - 1];
+    }
+    codes[j] = code;
+    ids[j] = id;
+  }
+  for (int k = 0; k < length; ++k) sorted_ids[p + k] = ids[k];
+}
+
+/// The scaled points in sorted order, and their codes (the short sort sorted only keys).
+__global__ void gather_scaled_codes_kernel(const int* sorted_ids, const double2* raw, InputScale scale, Quantiser q,
+                                           int n, double2* sorted, std::uint64_t* codes) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const double2 p = scale(raw[sorted_ids[i]]);
+  sorted[i] = p;
+  codes[i] = morton(p, q);
+}
+
+/// Whether the short sort should serve these points: no two of a hashed sample of them share a
+/// short key (a uniform 4096^2 input: two in 4096 do with odds of about 1 in 500). Only a
+/// forecast: the device checks the runs after the sort, and a long one still takes the full sort.
+/// EXPANSE_CUDA_MORTON_SORT=full or =short decides instead (short: no forecast, the check stays).
+bool short_sort_forecast(std::span<const Point2> points, const InputScan& scan, const Quantiser& q) {
+  if (const char* env = std::getenv("EXPANSE_CUDA_MORTON_SORT")) {
+    if (std::strcmp(env, "full") == 0) return false;
+    if (std::strcmp(env, "short") == 0) return true;
+  }
+  const int n = static_cast<int>(points.size());
+  const int samples = std::min(n, kShortKeySamples);
+  std::vector<std::uint32_t> keys(static_cast<std::size_t>(samples));
+  for (int i = 0; i < samples; ++i) {
+    const Point2 p = scan.scaled(points[static_cast<std::size_t>(quantile_sample_site(i, n, samples))]);
+    keys[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(morton_code(q.x(p.x), q.y(p.y)) >> kShortKeyShift);
+  }
+  std::sort(keys.begin(), keys.end());
+  return std::adjacent_find(keys.begin(), keys.end()) == keys.end();
 }
 
 /// The hash table's empty slot (cudaMemset's 0x7f bytes): above every position (n < 2^30).
@@ -273,6 +360,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   DeviceArray<double2> d_site_points(n, stream);
   DeviceArray<int> d_site_input(n, stream), d_representative(n, stream);
   std::optional<DeviceArray<int>> d_hull_sites;  // once the hull is known
+  bool short_sorted = false;                     // the sites ordered by the short sort
   std::size_t h = 0;
   clock::time_point host_uploaded;
   double hull_wait_ms = 0.0;
@@ -288,39 +376,72 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream);
     DeviceArray<int> d_first(n, stream), d_head(n, stream), d_slot(n, stream);
     DeviceArray<unsigned int> d_flags(1, stream);
-    std::size_t sort_bytes = 0, scan_bytes = 0, max_bytes = 0;
+    // The short sort's keys live in the codes' array, unsorted then sorted (2n words).
+    std::uint32_t* const d_keys = reinterpret_cast<std::uint32_t*>(d_codes.get());
+    std::uint32_t* const d_keys_sorted = d_keys + n;
+    std::size_t sort_bytes = 0, short_bytes = 0, scan_bytes = 0, max_bytes = 0;
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_codes.get(), d_codes_sorted.get(), d_ids.get(),
                                                  d_sorted_ids.get(), static_cast<int>(n), 0, 2 * Quantiser::bits,
                                                  stream));
+    EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, short_bytes, d_keys, d_keys_sorted, d_ids.get(),
+                                                 d_sorted_ids.get(), static_cast<int>(n), 0, 32, stream));
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, scan_bytes, d_head.get(), d_slot.get(), static_cast<int>(n),
                                                stream));
     EXPANSE_CUDA(cub::DeviceScan::InclusiveScan(nullptr, max_bytes, d_first.get(), d_slot.get(), MaximumOp{},
                                                 static_cast<int>(n), stream));
-    DeviceArray<unsigned char> d_temp(std::max({sort_bytes, scan_bytes, max_bytes}), stream);
+    DeviceArray<unsigned char> d_temp(std::max({sort_bytes, short_bytes, scan_bytes, max_bytes}), stream);
 
     // The sites' order: Morton codes as prepare_sites and the seam's bucket tree compute them.
     timer.begin("sort");
     const InputScale scale{input.scan.scale_exponent, input.scan.factor};
     const Quantiser quantiser(bounds);
-    morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), scale, static_cast<int>(n), quantiser,
-                                                          d_codes.get(), d_ids.get());
-    EXPANSE_CUDA(cudaGetLastError());
+    unsigned int* const words = ctx.pinned_words;
     std::size_t temp_bytes = d_temp.bytes();
-    EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_codes.get(), d_codes_sorted.get(),
-                                                 d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0,
-                                                 2 * Quantiser::bits, stream));
-    gather_scaled_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), scale,
-                                                                 static_cast<int>(n), d_sorted.get());
-    EXPANSE_CUDA(cudaGetLastError());
+    // The short sort where the forecast allows and no run of equal keys turns out too long; the
+    // check's read-back takes the place of the merge's (whose long runs it rules out).
+    if (short_sort_forecast(input.points, input.scan, quantiser)) {
+      short_key_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), scale, static_cast<int>(n), quantiser,
+                                                               d_keys, d_ids.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_keys, d_keys_sorted, d_ids.get(),
+                                                   d_sorted_ids.get(), static_cast<int>(n), 0, 32, stream));
+      EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, sizeof(unsigned int), stream));
+      short_run_check_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_keys_sorted, static_cast<int>(n), d_flags.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+      short_sorted = words[0] == 0;
+      if (short_sorted) {
+        short_run_order_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_keys_sorted, d_raw.get(), scale, quantiser,
+                                                                       static_cast<int>(n), d_sorted_ids.get());
+        gather_scaled_codes_kernel<<<blocks_for(n), kThreads, 0, stream>>>(
+            d_sorted_ids.get(), d_raw.get(), scale, quantiser, static_cast<int>(n), d_sorted.get(), d_codes_sorted.get());
+        EXPANSE_CUDA(cudaGetLastError());
+      }
+    }
+    if (!short_sorted) {
+      morton_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_raw.get(), scale, static_cast<int>(n), quantiser,
+                                                            d_codes.get(), d_ids.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      temp_bytes = d_temp.bytes();
+      EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_codes.get(), d_codes_sorted.get(),
+                                                   d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0,
+                                                   2 * Quantiser::bits, stream));
+      gather_scaled_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), scale,
+                                                                   static_cast<int>(n), d_sorted.get());
+      EXPANSE_CUDA(cudaGetLastError());
+    }
     timer.end();
 
     timer.begin("merge duplicates");
-    EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, sizeof(unsigned int), stream));
-    long_run_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), static_cast<int>(n), d_flags.get());
-    EXPANSE_CUDA(cudaGetLastError());
-    unsigned int* const words = ctx.pinned_words;
-    EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
-    EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    words[0] = 0;
+    if (!short_sorted) {
+      EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, sizeof(unsigned int), stream));
+      long_run_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), static_cast<int>(n), d_flags.get());
+      EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    }
     if (words[0] == 0) {
       first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
                                                                  static_cast<int>(n), d_first.get(), d_head.get());
@@ -436,6 +557,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                             : "cuda copy of the sites to the host (before the growth)",
                   copies_ms});
   if (alongside) host.push_back({"cuda wait for the sites' copy after the growth", ms(host_grown, clock::now())});
+  last_run_counters().short_morton_sort = short_sorted;
   last_run_counters().bytes_to_device = n * sizeof(double2) + h * sizeof(int);
   last_run_counters().bytes_to_host +=
       m * (sizeof(double2) + sizeof(int)) + h * sizeof(int) + (m < n ? n * sizeof(int) : 0);

@@ -105,15 +105,22 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
 }
 
 
-/// The first box of every apex search (GridView::first_reach, first_offset). star.comp's box,
-/// reach and offset 1, for every grid until measured otherwise; EXPANSE_CUDA_FIRST_BOX=reach,offset
+/// The first box of every apex search (GridView::first_reach, first_offset): star.comp's box
+/// (reach and offset 1) but on uniform cells up to 2^20 sites, where a box 3/4 as wide, half as
+/// far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9 -> 74.5 predicates a
+/// site) cost more second boxes, and where the GPU is full that loses; where a few waves of
+/// blocks and their slowest walks set the time, it wins. H100 and H200, GPU-only, two rounds
+/// alternated (session 19 calls 1-3): uniform 512^2 2.86 -> 2.65 ms (H100), 2.76 -> 2.61 (H200),
+/// 1024^2 5.21 / 5.23 -> 4.97 / 4.96 (H200), but 4096^2 40.3 -> 43.9 (H100); on quantile cells
+/// gaussian 1024^2 6.45 -> 7.35 (H200), kuzmin and gaussian 4096^2 slower too. Larger boxes
+/// (reach up to 2, offset up to 1.5) lost everywhere (call 2). EXPANSE_CUDA_FIRST_BOX=reach,offset
 /// sets both (for comparisons).
 struct FirstBoxShape {
   double reach = 1.0, offset = 1.0;
 };
-inline FirstBoxShape first_box_shape(bool uniform_cells) {
+inline FirstBoxShape first_box_shape(bool uniform_cells, std::size_t sites) {
   FirstBoxShape shape;
-  (void)uniform_cells;
+  if (uniform_cells && sites <= (std::size_t{1} << 20)) shape = {0.75, 0.5};
   if (const char* env = std::getenv("EXPANSE_CUDA_FIRST_BOX")) {
     char* end = nullptr;
     const double reach = std::strtod(env, &end);
@@ -124,8 +131,8 @@ inline FirstBoxShape first_box_shape(bool uniform_cells) {
   }
   return shape;
 }
-inline void apply_first_box(GridView& g, bool uniform_cells) {
-  const FirstBoxShape shape = first_box_shape(uniform_cells);
+inline void apply_first_box(GridView& g, bool uniform_cells, std::size_t sites) {
+  const FirstBoxShape shape = first_box_shape(uniform_cells, sites);
   g.first_reach = shape.reach;
   g.first_offset = shape.offset;
 }

@@ -20,10 +20,6 @@
 
 namespace expanse::detail::cuda {
 
-#ifndef EXPANSE_CUDA_FLAT_SCAN
-#define EXPANSE_CUDA_FLAT_SCAN 1
-#endif
-
 /// Searches by box scans that re-plan on a better candidate once a box has grown past this many
 /// cells (star.comp's big_scan_cells at two sites per cell: ~48 sites' worth of cells).
 inline constexpr int kBigScanCells = 24;
@@ -436,18 +432,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
             segment_of(y, part, &slot, &slot_end);
           }
           if constexpr (By == Walker::thread) {
-#if EXPANSE_CUDA_FLAT_SCAN
-            // One candidate a pass of the scan loop: a warp's lanes then meet at the end of every
-            // candidate, whoever is setting up a row segment, instead of each row's candidate loop
-            // lasting as long as its longest segment among the lanes.
-            if (slot < slot_end) {
-              ++work;
-              double2 p;
-              double d2;
-              const int verdict = judge(static_cast<int>(slot), p, d2);
-              if (!(verdict != 0 && take(static_cast<int>(slot), verdict, p, d2)) && work <= budget) ++slot;
-            }
-#else
             for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
               ++work;
               double2 p;
@@ -456,7 +440,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
               if (verdict != 0 && take(static_cast<int>(slot), verdict, p, d2)) break;
               if (work > budget) break;
             }
-#endif
           }
   #if defined(__CUDACC__)
           if constexpr (By == Walker::warp) {

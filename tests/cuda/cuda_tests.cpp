@@ -20,6 +20,7 @@
 #include "expanse/generate.hpp"
 #include "expanse/triangulate.hpp"
 #include "hull/convex_hull.hpp"
+#include "input/morton.hpp"
 #include "input/site_set.hpp"
 #include "predicates/predicates.hpp"
 #include "seam/adjacency_audit.hpp"
@@ -112,6 +113,49 @@ void grow_case(Backend& backend, const std::string& name, const std::vector<Poin
                   r.partial.deferred_expansions);
   } catch (const Error& e) {
     fail(test, std::string("threw ") + to_string(e.code()) + ": " + e.what());
+  }
+}
+
+/// The device's preparation (grow_from_input) against the host's (prepare_sites): the same
+/// sites in Morton order (equal codes may come in either order), the same representatives, and a
+/// valid growth on them. `sort`: EXPANSE_CUDA_MORTON_SORT for the run ("short", "full" or null:
+/// the forecast decides); `short_expected`: whether the short sort must have ordered them.
+void device_preparation_case(Backend& backend, const std::string& name, const std::vector<Point2>& input,
+                             const char* sort, bool short_expected) {
+  const std::string test = "device preparation, " + std::string(sort ? sort : "forecast") + " sort: " + name;
+  if (sort) setenv("EXPANSE_CUDA_MORTON_SORT", sort, 1);
+  try {
+    const InputScan scan = scan_input(input);
+    const InputHull input_hull = convex_hull_of_input(input, scan);
+    const Layout layout;
+    auto made = backend.grow_from_input(
+        {input, scan, [&] { return input_hull.collinear ? nullptr : &input_hull.sites; }, layout, nullptr});
+    unsetenv("EXPANSE_CUDA_MORTON_SORT");
+    if (!made) return fail(test, "the device declined");
+    const SiteSet host = prepare_sites(input);
+    const SiteSet& device = made->sites;
+    const Quantiser q(host.bounds);
+    auto code = [&](const Point2& p) { return morton_code(q.x(p.x), q.y(p.y)); };
+    if (device.points.size() != host.points.size()) return fail(test, "site counts differ");
+    for (std::size_t k = 0; k < host.points.size(); ++k)
+      if (code(device.points[k]) != code(host.points[k]))
+        return fail(test, "site " + std::to_string(k) + " out of Morton order");
+    auto sorted = [](const auto& points) {
+      std::vector<Point2> p(points.begin(), points.end());
+      std::sort(p.begin(), p.end(), [](const Point2& a, const Point2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+      return p;
+    };
+    if (sorted(device.points) != sorted(host.points)) return fail(test, "the sites differ");
+    if (!std::equal(device.representative.begin(), device.representative.end(), host.representative.begin(),
+                    host.representative.end()))
+      return fail(test, "representatives differ");
+    if (detail::cuda::last_run_counters().short_morton_sort != short_expected)
+      return fail(test, short_expected ? "the short sort did not serve" : "the short sort served");
+    check_partial(test, device, made->hull, made->grown.partial, false, false);
+    std::printf("ok   %s: %zu sites (%s sort)\n", test.c_str(), device.points.size(), short_expected ? "short" : "full");
+  } catch (const Error& e) {
+    unsetenv("EXPANSE_CUDA_MORTON_SORT");
+    fail(test, std::string("threw ") + e.what());
   }
 }
 
@@ -327,6 +371,21 @@ int main(int argc, char** argv) {
     unsetenv("EXPANSE_CUDA_BUDGET");
     unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
     unsetenv("EXPANSE_CUDA_AUDIT_ROOM");
+  }
+
+  {
+    // The device's two sorts. Pairs of points 1e-7 apart share a short key but not a code (runs
+    // that the short sort orders by the whole code); 40 copies of one point make a run of equal
+    // keys too long for it (the full sort after all); kuzmin's centre fails the forecast.
+    std::vector<Point2> pairs = generate_points("uniform", 3000, 16);
+    for (int k = 0; k < 500; ++k) pairs.push_back({pairs[k].x + 1e-7 * (k % 3), pairs[k].y - 1e-7 * (k % 5)});
+    std::vector<Point2> copies = generate_points("uniform", 3000, 17);
+    copies.insert(copies.end(), 40, copies[5]);
+    device_preparation_case(*backend, "uniform with close pairs", pairs, nullptr, true);
+    device_preparation_case(*backend, "uniform with close pairs", pairs, "full", false);
+    device_preparation_case(*backend, "40 copies of one point", copies, "short", false);
+    device_preparation_case(*backend, "duplicates", generate_points("duplicates", 3000, 18), "short", true);
+    device_preparation_case(*backend, "kuzmin", generate_points("kuzmin", 20000, 19), nullptr, false);
   }
 
   {
