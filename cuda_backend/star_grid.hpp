@@ -106,21 +106,22 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
 
 
 /// The first box of every apex search (GridView::first_reach, first_offset): star.comp's box
-/// (reach and offset 1) but on uniform cells up to 2^20 sites, where a box 3/4 as wide, half as
-/// far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9 -> 74.5 predicates a
+/// (reach and offset 1) but on uniform cells up to 2^20 sites that are not integers, where a box
+/// 3/4 as wide, half as far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9 -> 74.5 predicates a
 /// site) cost more second boxes, and where the GPU is full that loses; where a few waves of
 /// blocks and their slowest walks set the time, it wins. H100 and H200, GPU-only, two rounds
 /// alternated (session 19 calls 1-3): uniform 512^2 2.86 -> 2.65 ms (H100), 2.76 -> 2.61 (H200),
 /// 1024^2 5.21 / 5.23 -> 4.97 / 4.96 (H200), but 4096^2 40.3 -> 43.9 (H100); on quantile cells
-/// gaussian 1024^2 6.45 -> 7.35 (H200), kuzmin and gaussian 4096^2 slower too. Larger boxes
+/// gaussian 1024^2 6.45 -> 7.35 (H200), kuzmin and gaussian 4096^2 slower too; the integer
+/// lattice 512^2 0.93 -> 1.12 ms, 1024^2 2.20 -> 2.40 (H100, call 4). Larger boxes
 /// (reach up to 2, offset up to 1.5) lost everywhere (call 2). EXPANSE_CUDA_FIRST_BOX=reach,offset
 /// sets both (for comparisons).
 struct FirstBoxShape {
   double reach = 1.0, offset = 1.0;
 };
-inline FirstBoxShape first_box_shape(bool uniform_cells, std::size_t sites) {
+inline FirstBoxShape first_box_shape(bool uniform_cells, std::size_t sites, bool integer_coordinates) {
   FirstBoxShape shape;
-  if (uniform_cells && sites <= (std::size_t{1} << 20)) shape = {0.75, 0.5};
+  if (uniform_cells && !integer_coordinates && sites <= (std::size_t{1} << 20)) shape = {0.75, 0.5};
   if (const char* env = std::getenv("EXPANSE_CUDA_FIRST_BOX")) {
     char* end = nullptr;
     const double reach = std::strtod(env, &end);
@@ -131,8 +132,8 @@ inline FirstBoxShape first_box_shape(bool uniform_cells, std::size_t sites) {
   }
   return shape;
 }
-inline void apply_first_box(GridView& g, bool uniform_cells, std::size_t sites) {
-  const FirstBoxShape shape = first_box_shape(uniform_cells, sites);
+inline void apply_first_box(GridView& g, bool uniform_cells, const SiteSet& sites) {
+  const FirstBoxShape shape = first_box_shape(uniform_cells, sites.points.size(), sites.integer_coordinates);
   g.first_reach = shape.reach;
   g.first_offset = shape.offset;
 }
@@ -142,14 +143,17 @@ inline int quantile_sample_count(std::size_t n) {
   return static_cast<int>(std::min<std::size_t>(n, std::size_t{1} << 18));
 }
 
+/// splitmix64's finaliser: every bit of z stirred into every bit of the result.
+EXPANSE_HOST_DEVICE std::uint64_t mix_bits(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
 /// The site behind sample i: a hashed index, so that ordered inputs (row-major grids) do not alias.
 EXPANSE_HOST_DEVICE int quantile_sample_site(int i, int n, int samples) {
   if (samples >= n) return i;
-  std::uint64_t z = static_cast<std::uint64_t>(i) + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<int>(z % static_cast<std::uint64_t>(n));
+  return static_cast<int>(mix_bits(static_cast<std::uint64_t>(i) + 0x9E3779B97F4A7C15ull) % static_cast<std::uint64_t>(n));
 }
 
 /// Uniform cells or quantile cells. Quantile cells keep a cell's share of the sites even where

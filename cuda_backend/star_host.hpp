@@ -55,7 +55,7 @@ class HostStarLayout {
                                                     : quantile_shape(finest, sites.bounds);
     grid_ = make_grid_view(shape, sites.bounds);
     exact_lattice_ = exact_lattice_arithmetic(sites);
-    apply_first_box(grid_, !quantile, n);
+    apply_first_box(grid_, !quantile, sites);
     if (quantile) {
       const int samples = quantile_sample_count(n);
       std::vector<double> xs(samples), ys(samples);

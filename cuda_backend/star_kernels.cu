@@ -500,7 +500,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   static_assert(2 * sizeof(QuantileGuideKey) == 16 * sizeof(unsigned int));
   buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
-  apply_first_box(g, buckets.uniform(), n);
+  apply_first_box(g, buckets.uniform(), input.sites);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
