@@ -142,7 +142,7 @@ constexpr int kShortKeyShift = 2 * Quantiser::bits - 32;
 /// needs no check for long runs of equal codes.
 constexpr int kShortRunLimit = 32;
 static_assert(kShortRunLimit <= kMergeRunLimit);
-/// Sampled points whose short keys decide between the sorts (any two equal: the full sort).
+/// Sampled points whose short keys forecast which sort serves (short_sort_forecast).
 constexpr int kShortKeySamples = 4096;
 
 __global__ void short_key_kernel(const double2* raw, InputScale scale, int n, Quantiser q, std::uint32_t* keys,

@@ -107,9 +107,9 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
 
 /// The first box of every apex search (GridView::first_reach, first_offset): star.comp's box
 /// (reach and offset 1) but on uniform cells up to 2^20 sites that are not integers, where a box
-/// 3/4 as wide, half as far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9 -> 74.5 predicates a
-/// site) cost more second boxes, and where the GPU is full that loses; where a few waves of
-/// blocks and their slowest walks set the time, it wins. H100 and H200, GPU-only, two rounds
+/// 3/4 as wide, half as far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9
+/// -> 74.5 predicates a site) cost more second boxes, and where the GPU is full that loses; where
+/// a few waves of blocks and their slowest walks set the time, it wins. H100 and H200, GPU-only, two rounds
 /// alternated (session 19 calls 1-3): uniform 512^2 2.86 -> 2.65 ms (H100), 2.76 -> 2.61 (H200),
 /// 1024^2 5.21 / 5.23 -> 4.97 / 4.96 (H200), but 4096^2 40.3 -> 43.9 (H100); on quantile cells
 /// gaussian 1024^2 6.45 -> 7.35 (H200), kuzmin and gaussian 4096^2 slower too; the integer
