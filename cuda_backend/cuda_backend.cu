@@ -266,7 +266,6 @@ class CudaBackend final : public Backend {
       int least = 0, greatest = 0;
       EXPANSE_CUDA(cudaDeviceGetStreamPriorityRange(&least, &greatest));
       EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.edge_stream, cudaStreamNonBlocking, greatest));
-      EXPANSE_CUDA(cudaStreamCreateWithFlags(&ctx_.retry_stream, cudaStreamNonBlocking));
     }
     EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), Context::kPinnedWords * sizeof(unsigned int),
                                cudaHostAllocDefault));
@@ -275,7 +274,7 @@ class CudaBackend final : public Backend {
   ~CudaBackend() override {
     staging_.reset();
     side_staging_.reset();
-    for (cudaStream_t extra : {ctx_.side_stream, ctx_.edge_stream, ctx_.retry_stream}) {
+    for (cudaStream_t extra : {ctx_.side_stream, ctx_.edge_stream}) {
       if (!extra) continue;
       cudaStreamSynchronize(extra);
       cudaStreamDestroy(extra);

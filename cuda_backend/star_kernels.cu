@@ -160,8 +160,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, c
                                                                      undecided_list, list_counts);
 }
 
-/// The second pass: the sites a first pass listed (list[*begin .. *count); begin null: from 0),
-/// with the full budget, each walked by a whole warp. Measured on the H100 (2026-11-23, uniform 4096^2): packed 32 sites to
+/// The second pass: the sites a first pass listed (*count of them), with the full budget, each
+/// walked by a whole warp. Measured on the H100 (2026-11-23, uniform 4096^2): packed 32 sites to
 /// a warp the second pass ran 2.7x slower than a single pass (623 against 233 ms), their
 /// divergent searches serialised; one site per warp on one thread still lost (285 against 228
 /// ms), a heavy site's walk being a chain of dependent loads that one thread runs at ~1 us per
@@ -170,11 +170,10 @@ template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
-                                                                    const int* retry_list, const unsigned int* count,
-                                                                    const unsigned int* begin = nullptr) {
+                                                                    const int* retry_list, const unsigned int* count) {
   const unsigned sites = *count;
   const unsigned warps = gridDim.x * (blockDim.x / 32);
-  for (unsigned k = (begin ? *begin : 0u) + (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
+  for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
     walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, retry_list[k], star, info, owned, counters, budget,
                                                         WalkPass::retry, nullptr, nullptr, nullptr);
 }
@@ -469,8 +468,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  // [9..11]: the edge's lists (EdgeCells); [12]: the rest's retry list as the first phase left it.
-  DeviceArray<unsigned int> d_counters(13, stream);
+  DeviceArray<unsigned int> d_counters(12, stream);  // [9..11]: the edge's lists (EdgeCells)
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -600,16 +598,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // EXPANSE_CUDA_BLOCK_ORDER=cells or =ends forces one.
     const char* block_order_env = std::getenv("EXPANSE_CUDA_BLOCK_ORDER");
     const bool ends_first = block_order_env ? std::strcmp(block_order_env, "ends") == 0 : !buckets.uniform();
-    // The sites the first phase hands on take their second pass on the retry stream while the
-    // second phase walks: they post nothing (a site walked again never does), and the second
-    // phase's walks read only their inboxes, so nothing either writes is read by the other. The
-    // rest (the second phase's, the undecided list's) follow the second phase as before. Kuzmin
-    // and gaussian 4096^2 ended their star stage with 1.6-2.4 ms of warps' retries after the
-    // second phase (session 18's timelines). EXPANSE_CUDA_RETRY_OVERLAP=0 keeps them all after.
-    const char* overlap_env = std::getenv("EXPANSE_CUDA_RETRY_OVERLAP");
-    const bool retry_overlap =
-        ctx.retry_stream && two_passes && !order && !(overlap_env && std::strcmp(overlap_env, "0") == 0);
-    unsigned int* const first_phase_retries = d_counters.get() + 12;
     const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
     const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
     const int phases = two && !order ? 2 : 1;
@@ -620,12 +608,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
-      cudaEvent_t fork = nullptr, join = nullptr, retry_fork = nullptr, retry_join = nullptr;
-      bool retry_forked = false;
-      if (retry_overlap) {
-        EXPANSE_CUDA(cudaEventCreateWithFlags(&retry_fork, cudaEventDisableTiming));
-        EXPANSE_CUDA(cudaEventCreateWithFlags(&retry_join, cudaEventDisableTiming));
-      }
+      cudaEvent_t fork = nullptr, join = nullptr;
       timeline.mark("start", stream);
       if (edge.keys) {
         edge_list_kernel<<<blocks_for(n), kThreads, 0, stream>>>(edge, static_cast<int>(n), edge_sites, edge_counts);
@@ -663,18 +646,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
               g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
               pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
-          if (phase == 0 && phases == 2 && retry_overlap) {
-            EXPANSE_CUDA(cudaMemcpyAsync(first_phase_retries, d_counters.get() + 7, sizeof(unsigned int),
-                                         cudaMemcpyDeviceToDevice, stream));
-            EXPANSE_CUDA(cudaEventRecord(retry_fork, stream));
-            EXPANSE_CUDA(cudaStreamWaitEvent(ctx.retry_stream, retry_fork));
-            star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, ctx.retry_stream>>>(
-                g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
-                d_retry.get(), first_phase_retries);
-            timeline.mark("retry of phase 0", ctx.retry_stream);
-            EXPANSE_CUDA(cudaEventRecord(retry_join, ctx.retry_stream));
-            retry_forked = true;
-          }
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
@@ -692,13 +663,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
-            d_retry.get(), d_counters.get() + 7, retry_forked ? first_phase_retries : nullptr);
+            d_retry.get(),
+            d_counters.get() + 7);
       timeline.mark("retry", stream);
-      if (retry_forked) EXPANSE_CUDA(cudaStreamWaitEvent(stream, retry_join));
-      if (retry_overlap) {
-        EXPANSE_CUDA(cudaEventDestroy(retry_fork));
-        EXPANSE_CUDA(cudaEventDestroy(retry_join));
-      }
       if (edge.keys) {
         EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
         EXPANSE_CUDA(cudaEventDestroy(fork));
