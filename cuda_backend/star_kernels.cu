@@ -38,19 +38,6 @@ namespace {
 /// warp (Walker::warp) and the full budget.
 enum class WalkPass { only, first, retry };
 
-/// list[*count] = value, *count + 1, for every lane of the warp that calls it together: one
-/// atomic for them all (the second phase's inbox pass lists most of its sites, and one counter
-/// taking an atomic per site would serialise millions of them).
-__device__ __forceinline__ void append_by_warp(int* list, unsigned int* count, int value) {
-  const unsigned active = __activemask();
-  const int leader = __ffs(active) - 1;
-  const unsigned lane = threadIdx.x & 31;
-  unsigned base = 0;
-  if (static_cast<int>(lane) == leader) base = atomicAdd(count, static_cast<unsigned>(__popc(active)));
-  base = __shfl_sync(active, base, leader);
-  list[base + static_cast<unsigned>(__popc(active & ((1u << lane) - 1u)))] = value;
-}
-
 /// `retry_list` (list_counts[0] long) takes a first pass's sites that ran past its budget, for
 /// the warps; `undecided_list` (list_counts[1]) a light first pass's sites that met a candidate
 /// only the exact path decides, for a thread each (star_list_kernel). The lists of the grid's
@@ -89,9 +76,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     owned[i] = 0;
     if (walked_again) {
       if (undecided_list && w.handed_on && cells <= budget)
-        append_by_warp(undecided_list, list_counts + 1, i);
+        undecided_list[atomicAdd(list_counts + 1, 1u)] = i;
       else
-        append_by_warp(retry_list, list_counts, i);
+        retry_list[atomicAdd(list_counts, 1u)] = i;
       return;
     }
     if (cells > budget) atomicAdd(counters + 6, 1u);  // deferred by the budget
@@ -137,7 +124,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
                                                               const int* order, WalkPass pass, int* retry_list,
                                                               int* undecided_list, EdgeCells edge,
                                                               int phases, int phase, StarInbox inbox,
-                                                              unsigned int* list_counts, bool ends_first = false) {
+                                                              bool ends_first = false) {
   // Thread t walks local site order[t], or the t-th site of its phase (StarInbox): cell order
   // measured faster than the sites' Morton order on the H100 (uniform 4096^2: 230 vs 244 ms;
   // kuzmin: 629 vs 733 ms). Morton order walks in one phase.
@@ -148,24 +135,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
   const int i = order ? order[t] : t;
   if (edge.holds(i)) return;  // the edge stream walks it
   walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox>(
-      g, pred, i, star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
-}
-
-/// The sites list[0 .. *count), a thread each (the grid sized for the most the list can hold),
-/// as the second phase's walks after its inbox pass: the sites whose stars the inbox alone did not
-/// finish, packed so that a warp's lanes all search.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
-__global__ void __launch_bounds__(128, MinBlocks) star_listed_kernel(GridView g, const int* pred, int* star,
-                                                                     std::uint32_t* info, int* owned,
-                                                                     unsigned int* counters, unsigned budget,
-                                                                     const int* list, const unsigned int* count,
-                                                                     int* retry_list, int* undecided_list,
-                                                                     unsigned int* list_counts, StarInbox inbox) {
-  const unsigned k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= *count) return;
-  walk_and_record<Search, Walker::thread, ExactLattice, true, true>(g, pred, list[k], star, info, owned, counters,
-                                                                    budget, WalkPass::first, retry_list,
-                                                                    undecided_list, list_counts, inbox);
+      g, pred, i, star, info, owned, counters, budget, pass, retry_list, undecided_list, counters + 7, inbox);
 }
 
 /// The sites list[0 .. *count), a thread each, as a first pass walks them: those that run past
@@ -498,8 +468,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's list after its inbox pass.
-  DeviceArray<unsigned int> d_counters(13, stream);
+  DeviceArray<unsigned int> d_counters(12, stream);  // [9..11]: the edge's lists (EdgeCells)
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -586,7 +555,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (rings) {
     star_kernel<StarSearch::rings, 1><<<blocks_for(n, 128), 128, 0, stream>>>(
         g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget,
-        order, WalkPass::only, nullptr, nullptr, EdgeCells{}, 1, 0, StarInbox{}, d_counters.get() + 7);
+        order, WalkPass::only, nullptr, nullptr, EdgeCells{}, 1, 0, StarInbox{});
   } else {
     // The sites of the grid's outer ring of cells (EdgeCells) take their two passes on the edge
     // stream while the rest take theirs here; EXPANSE_CUDA_EDGE_DEPTH sets how many rings (0:
@@ -635,18 +604,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     const std::size_t inboxes = phases == 2 ? n / 2 + 1 : 0;
     DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
-    // The second phase in two kernels where the first pass walks light: an inbox pass, a thread
-    // per odd site, that finishes the stars its posts complete (budget phase_inbox_budget, a few
-    // units past the steps a star's inbox can give) and lists the rest; then a thread per listed
-    // site. In one kernel a warp's lanes whose stars the inbox completes wait for those that
-    // search (counted with scipy at 262k uniform sites, 38% of the odd sites need no search and
-    // the lanes search 28% of the warps' search steps; on kuzmin's quantile cells 74% and 17%).
-    // EXPANSE_CUDA_PHASE_SPLIT=0 walks the second phase in one kernel; =N sets the inbox pass's
-    // budget.
-    const char* split_env = std::getenv("EXPANSE_CUDA_PHASE_SPLIT");
-    const unsigned phase_inbox_budget = split_env ? static_cast<unsigned>(std::strtoul(split_env, nullptr, 10)) : 16u;
-    const bool split_phase = inboxes > 0 && two_passes && !first_full && phase_inbox_budget > 0;
-    DeviceArray<int> d_phase_list(split_phase ? inboxes : 0, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
     auto walk_passes = [&](auto min_blocks, auto lattice) {
       constexpr int blocks = decltype(min_blocks)::value;
@@ -685,21 +642,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase == 1};
           const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
           if (sites == 0) continue;
-          if (phase == 1 && split_phase) {
-            later<<<blocks_for(sites, 128), 128, 0, stream>>>(
-                g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-                phase_inbox_budget, order, pass, d_phase_list.get(), nullptr, edge, phases, phase, inbox,
-                d_counters.get() + 12, ends_first);
-            timeline.mark("phase 1 inboxes", stream);
-            star_listed_kernel<StarSearch::boxes, blocks, exact><<<blocks_for(sites, 128), 128, 0, stream>>>(
-                g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                d_phase_list.get(), d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, inbox);
-          } else {
-            (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
-                g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-                pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, d_counters.get() + 7,
-                ends_first);
-          }
+          (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
+              g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+              pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
         }
       };
