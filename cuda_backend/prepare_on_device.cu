@@ -66,13 +66,6 @@ __global__ void gather_scaled_kernel(const int* sorted_ids, const double2* raw, 
   if (i < n) sorted[i] = scale(raw[sorted_ids[i]]);
 }
 
-/// flags[0] |= 1 where any lane of the calling warp (all 32 call it) holds `set`: one atomic a
-/// warp. An atomic a point on the one word took 0.28 ms of kuzmin's merge at 4096^2, most of its
-/// points lying in long runs (H100, ncu, session 19 call 8).
-__device__ __forceinline__ void flag_by_warp(bool set, unsigned int* flags) {
-  if (__any_sync(0xffffffffu, set) && (threadIdx.x & 31) == 0) atomicOr(flags, 1u);
-}
-
 /// flags[0] = 1 where a run of equal Morton codes is longer than kMergeRunLimit + 1: one look
 /// back a position (the codes are sorted). Such a run sends every point through the runs' hash tables
 /// (kuzmin at 4096^2: most of its points lie in such runs), and first_equal_kernel is not run:
@@ -80,7 +73,7 @@ __device__ __forceinline__ void flag_by_warp(bool set, unsigned int* flags) {
 /// H100 for results the hash table then replaced (session 14 call 2).
 __global__ void long_run_kernel(const std::uint64_t* codes, int n, unsigned int* flags) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
-  flag_by_warp(p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p], flags);
+  if (p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p]) atomicOr(flags, 1u);
 }
 
 /// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
@@ -163,7 +156,7 @@ __global__ void short_key_kernel(const double2* raw, InputScale scale, int n, Qu
 /// flags[0] = 1 where a run of equal short keys (sorted) is longer than kShortRunLimit.
 __global__ void short_run_check_kernel(const std::uint32_t* keys, int n, unsigned int* flags) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
-  flag_by_warp(p >= kShortRunLimit && p < n && keys[p - kShortRunLimit] == keys[p], flags);
+  if (p >= kShortRunLimit && p < n && keys[p - kShortRunLimit] == keys[p]) atomicOr(flags, 1u);
 }
 
 /// Each run of equal short keys (at most kShortRunLimit long) ordered by (whole code, input
