@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Session 19 call 8: where the preparation and bucket stages' time goes, kernel by kernel (ncu's
-# (Its inline summary below failed on ncu's output, whose CSV rows come mixed with the benchmark's own;
-# kernel_times.py reads the two files instead.)
 # gpu__time_duration, every kernel but the star walks and the emit), 4096^2 kuzmin and uniform,
 # one repetition after the warm-up (backend alone, then the pipeline).
+# (Its inline summary below failed on ncu's output, whose CSV rows come mixed with the benchmark's own;
+# kernel_times.py reads the two files instead.)
 set -u
 bash bench/device/run-on-device.sh env >/dev/null
 export LD_LIBRARY_PATH=$PWD/.devrun/lib
