@@ -178,6 +178,13 @@ class DeviceArray {
   }
   DeviceArray(const DeviceArray&) = delete;
   DeviceArray& operator=(const DeviceArray&) = delete;
+  /// Exchanges the two arrays' memory (and streams): a buffer that already holds the contents
+  /// another is to hold takes its place instead of a copy.
+  void swap(DeviceArray& other) noexcept {
+    std::swap(stream_, other.stream_);
+    std::swap(count_, other.count_);
+    std::swap(ptr_, other.ptr_);
+  }
   T* get() const { return ptr_; }
   std::size_t size() const { return count_; }
   std::size_t bytes() const { return count_ * sizeof(T); }

@@ -482,10 +482,6 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     temp_bytes = d_temp.bytes();
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(d_temp.get(), temp_bytes, d_head.get(), d_slot.get(),
                                                static_cast<int>(n), stream));
-    compact_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_sorted_ids.get(), d_head.get(),
-                                                           d_slot.get(), static_cast<int>(n), d_site_points.get(),
-                                                           d_site_input.get());
-    EXPANSE_CUDA(cudaGetLastError());
     // How many sites: the last slot plus the last head.
     EXPANSE_CUDA(cudaMemcpyAsync(&words[1], d_slot.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
     EXPANSE_CUDA(cudaMemcpyAsync(&words[2], d_head.get() + n - 1, sizeof(int), cudaMemcpyDeviceToHost, stream));
@@ -505,11 +501,21 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     EXPANSE_CUDA(cudaGetLastError());
     EXPANSE_CUDA(cudaStreamSynchronize(stream));
     m = static_cast<std::size_t>(words[1]) + words[2];
-    if (m < n) {  // points repeat: the host needs every input's representative
+    if (m < n) {  // points repeat: the sites are the groups' first points; every input's representative
+      timer.begin("compact");
+      compact_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_sorted_ids.get(), d_head.get(),
+                                                             d_slot.get(), static_cast<int>(n), d_site_points.get(),
+                                                             d_site_input.get());
       representative_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_first.get(),
                                                                     static_cast<int>(n), d_representative.get());
       EXPANSE_CUDA(cudaGetLastError());
+      timer.end();
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    } else {
+      // No point repeats: the sorted points and their input indices are the sites already (the
+      // compaction's copy took 0.27 ms at 4096^2 on the H100; session 19 call 8).
+      d_site_points.swap(d_sorted);
+      d_site_input.swap(d_sorted_ids);
     }
   }
 
