@@ -219,6 +219,13 @@ __global__ void __launch_bounds__(128) emit_triangles_kernel(const int* star, co
   owned[i] = mask;
 }
 
+/// Output index of triangle q of non-deferred site o's star (the triangle (o, star q, star q + 1)),
+/// when o owns it; -1 when not (its owner is one of the other two).
+__device__ __forceinline__ int owned_triangle_index(const int* offset, const std::uint32_t* owned, int o, int q) {
+  const std::uint32_t mask = owned[o];
+  return (mask >> q) & 1u ? offset[o] + __popc(mask & ((1u << q) - 1u)) : -1;
+}
+
 /// Index of the CCW triangle (x, y, z) in the output: its owner o is its smallest vertex, and
 /// (o, u, w) is the triangle at u's position q in o's star; -1 if o deferred (or the stars
 /// disagree, which the audit then reports).
@@ -235,14 +242,7 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
   const int q = star_find(star, inf, o, u);
   const int tris = star_closed(inf) ? star_degree(inf) : star_degree(inf) - 1;
   if (q < 0 || q >= tris || star_at(star, inf, o, q + 1) != w) return -1;
-  return offset[o] + __popc(owned[o] & ((1u << q) - 1u));
-}
-
-/// Output index of triangle q of non-deferred site o's star (the triangle (o, star q, star q + 1)),
-/// when o owns it; -1 when not (its owner is one of the other two).
-__device__ __forceinline__ int owned_triangle_index(const int* offset, const std::uint32_t* owned, int o, int q) {
-  const std::uint32_t mask = owned[o];
-  return (mask >> q) & 1u ? offset[o] + __popc(mask & ((1u << q) - 1u)) : -1;
+  return owned_triangle_index(offset, owned, o, q);
 }
 
 /// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
