@@ -199,19 +199,30 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   unsigned work = 0, predicates = 0;
   SearchBounds bounds;
   // The single-precision screen's frame (apex_screen.hpp): a = s and no B in the
-  // nearest-neighbour search; each edge and each better candidate update it.
+  // nearest-neighbour search; each edge and each better candidate update it. `screening`: this
+  // search screens its candidates. The float copies carry 2^-24 of absolute error, so where a
+  // search's sites lie closer than kScreenReach (the centre of a kuzmin disc at 4096^2: edges
+  // near 2^-23) the screen would settle few candidates and cost every one; such searches go
+  // straight to the double filters.
+  constexpr double kScreenReach = 0x1p-15;
   const bool screened = g.points_f != nullptr;
+  bool screening = screened;  // a nearest-neighbour search without a best: every candidate is better
   ex::ScreenFrame frame;
-  frame.ax = ex::nearest_float(ps.x);
-  frame.ay = ex::nearest_float(ps.y);
+  if (screened) {
+    frame.ax = ex::nearest_float(ps.x);
+    frame.ay = ex::nearest_float(ps.y);
+  }
   // A better candidate becomes the best: its point, its squared distance to a (as the filters
   // form it) and the screen's C.
   auto set_best = [&](int ip) {
     best = ip;
     best_p = load_site(g.points, ip);
     best_d2 = ex::apex_point(ex::apex_edge(pa.x, pa.y, pb.x, pb.y), best_p.x, best_p.y).d2;
-    frame.cx = ex::screen_leaf(best_p.x, pa.x);
-    frame.cy = ex::screen_leaf(best_p.y, pa.y);
+    if (phase == nearest) screening = screened && fabs(best_p.x - ps.x) + fabs(best_p.y - ps.y) >= kScreenReach;
+    if (screening) {
+      frame.cx = ex::screen_leaf(best_p.x, pa.x);
+      frame.cy = ex::screen_leaf(best_p.y, pa.y);
+    }
   };
 
   // The cells where a site better than `best` could lie, with `bounds` set to match.
@@ -258,7 +269,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   // decides first where there is one; the double filters see only what it leaves open.
   auto judge = [&](int ip) {
     if constexpr (!ExactLattice) {
-      if (screened) {
+      if (screening) {
         const float2 pf = load_site(g.points_f, ip);
         const ex::ScreenVerdict sv = ex::apex_screen(frame, pf.x, pf.y, phase == nearest, best >= 0);
         // a, b and the best are never candidates (see below); the screen cannot decide them
@@ -578,10 +589,13 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       bounds.disc = false;
       bounds.a = pa;
       bounds.b = pb;
-      frame.ax = ex::nearest_float(pa.x);
-      frame.ay = ex::nearest_float(pa.y);
-      frame.bx = ex::screen_leaf(pb.x, pa.x);
-      frame.by = ex::screen_leaf(pb.y, pa.y);
+      screening = screened && fabs(pb.x - pa.x) + fabs(pb.y - pa.y) >= kScreenReach;
+      if (screening) {
+        frame.ax = ex::nearest_float(pa.x);
+        frame.ay = ex::nearest_float(pa.y);
+        frame.bx = ex::screen_leaf(pb.x, pa.x);
+        frame.by = ex::screen_leaf(pb.y, pa.y);
+      }
       // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
       // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
       const double bax = pb.x - pa.x, bay = pb.y - pa.y;
