@@ -121,7 +121,6 @@ class CellBuckets {
         ids(capacity, stream),
         sorted_ids(capacity, stream),
         sorted(capacity, stream),
-        sorted_f(capacity, stream),
         cell_start(cells_ + 1, stream),
         // Room for the uniform shape's columns or rows, and for the square quantile shape's.
         xb_(quantile_ ? std::max(shape.gx, shape.gy) + 1 : 0, stream),
@@ -146,7 +145,7 @@ class CellBuckets {
   int key_bits() const { return key_bits_; }
 
   /// Buckets points[0, n) (n <= capacity): sets g's boundaries (g.xb, g.yb, quantile kind) and
-  /// g.cell_start, g.points (the sorted points), g.points_f (rounded to float); rank, when given, gets each point's position.
+  /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
   /// `word`: pinned host memory for the evenness test's one number; `guide_keys`: for the two axes'
   /// guide keys (the host waits for both).
   void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, QuantileGuideKey* guide_keys,
@@ -203,8 +202,7 @@ class CellBuckets {
     std::size_t bytes = temp_.bytes();
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(temp_.get(), bytes, keys.get(), keys_sorted.get(), ids.get(),
                                                  sorted_ids.get(), n, 0, key_bits_, stream));
-    gather_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(sorted_ids.get(), points, n, sorted.get(), rank,
-                                                                   sorted_f.get());
+    gather_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(sorted_ids.get(), points, n, sorted.get(), rank);
     EXPANSE_CUDA(cudaGetLastError());
     // The cells of the shape applied, not the room for them: the last site's thread fills the
     // starts of the cells after its own alone (uniform cells, coarser than the room, left 3.6M
@@ -214,7 +212,6 @@ class CellBuckets {
     EXPANSE_CUDA(cudaGetLastError());
     g.cell_start = cell_start.get();
     g.points = sorted.get();
-    g.points_f = screen_sites() ? sorted_f.get() : nullptr;
   }
 
  private:
@@ -255,7 +252,6 @@ class CellBuckets {
   DeviceArray<std::uint32_t> keys, keys_sorted;
   DeviceArray<int> ids, sorted_ids;  ///< sorted_ids[position] = the point's index in `points`
   DeviceArray<double2> sorted;
-  DeviceArray<float2> sorted_f;  ///< `sorted` rounded to float (GridView::points_f)
   DeviceArray<std::uint32_t> cell_start;
 
  private:

@@ -17,7 +17,6 @@ namespace expanse::detail::cuda {
 __device__ __forceinline__ double load_readonly(const double* p) { return __ldg(p); }
 __device__ __forceinline__ int load_readonly(const int* p) { return __ldg(p); }
 __device__ __forceinline__ double2 load_site(const double2* points, int i) { return __ldg(points + i); }
-__device__ __forceinline__ float2 load_site(const float2* points, int i) { return __ldg(points + i); }
 __device__ __forceinline__ std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return __ldg(starts + c); }
 }  // namespace expanse::detail::cuda
 
@@ -35,16 +34,11 @@ struct double2 {
   double x, y;
 };
 inline double2 make_double2(double x, double y) { return {x, y}; }
-struct float2 {
-  float x, y;
-};
-inline float2 make_float2(float x, float y) { return {x, y}; }
 
 namespace expanse::detail::cuda {
 inline double load_readonly(const double* p) { return *p; }
 inline int load_readonly(const int* p) { return *p; }
 inline double2 load_site(const double2* points, int i) { return points[i]; }
-inline float2 load_site(const float2* points, int i) { return points[i]; }
 inline std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return starts[c]; }
 using std::fabs;
 using std::fmax;

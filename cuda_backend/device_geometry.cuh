@@ -120,9 +120,6 @@ struct GridView {
   int gx, gy;
   const std::uint32_t* cell_start;
   const double2* points;  ///< sorted by cell
-  /// The same sites rounded to float (screen_sites), for the single-precision screen of the
-  /// searches' candidates (predicates/apex_screen.hpp); null: no screen.
-  const float2* points_f = nullptr;
   const double* xb = nullptr;  ///< quantile kind: gx + 1 column boundaries
   const double* yb = nullptr;
   double max_x = 0.0, max_y = 0.0;  ///< bounding box of the sites (cell bounds clamp to it)

@@ -6,17 +6,14 @@
 namespace expanse::detail::cuda {
 namespace {
 
-/// sorted_points[i] = points[sorted_ids[i]]; rank (optional) the inverse permutation; rounded
-/// (optional) the sorted points rounded to float.
+/// sorted_points[i] = points[sorted_ids[i]]; rank (optional) the inverse permutation.
 __global__ void gather_kernel(const int* sorted_ids, const double2* points, int n, double2* sorted_points,
-                              int* rank = nullptr, float2* rounded = nullptr) {
+                              int* rank = nullptr) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const int id = sorted_ids[i];
-  const double2 p = points[id];
-  sorted_points[i] = p;
+  sorted_points[i] = points[id];
   if (rank) rank[id] = i;
-  if (rounded) rounded[i] = make_float2(__double2float_rn(p.x), __double2float_rn(p.y));
 }
 
 /// cell_start[c] = the first position whose key is >= c, for c in [0, cells]; keys sorted, each

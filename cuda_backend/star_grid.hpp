@@ -83,15 +83,6 @@ inline bool square_quantile_off() {
   return env && std::strcmp(env, "box") == 0;
 }
 
-/// Whether the searches screen their candidates in single precision (GridView::points_f,
-/// predicates/apex_screen.hpp); EXPANSE_CUDA_SCREEN=off takes every candidate to the double
-/// filters, for comparisons. The screen decides no candidate differently, so the stars, the work
-/// and the deferred sites are the same either way.
-inline bool screen_sites() {
-  const char* env = std::getenv("EXPANSE_CUDA_SCREEN");
-  return !(env && std::strcmp(env, "off") == 0);
-}
-
 /// Sets g's shape: its origin, scales and cells per axis.
 inline void apply_shape(GridView& g, const GridShape& shape) {
   g.min_x = shape.min_x;

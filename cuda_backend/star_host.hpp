@@ -97,16 +97,8 @@ class HostStarLayout {
     const std::size_t h = hull.sites.size();
     for (std::size_t t = 0; t < h; ++t) pred_[rank[hull.sites[t]]] = rank[hull.sites[t == 0 ? h - 1 : t - 1]];
     grid_.points = points_.data();
-    points_f_.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-      points_f_[i] = make_float2(static_cast<float>(points_[i].x), static_cast<float>(points_[i].y));
-    set_screen(screen_sites());
     grid_.cell_start = cell_start_.data();
   }
-
-  /// Whether the walks screen candidates in single precision (as the kernels do by default;
-  /// screen_sites).
-  void set_screen(bool on) { grid_.points_f = on ? points_f_.data() : nullptr; }
 
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
   /// kernel's default for the search), spread over
@@ -262,7 +254,6 @@ class HostStarLayout {
   GridView grid_{};
   bool exact_lattice_ = false;  // exact_lattice_arithmetic: walks take the ExactLattice search
   std::vector<double2> points_;
-  std::vector<float2> points_f_;  ///< points_ rounded to float (the screen's copy)
   std::vector<int> to_site_;
   std::vector<std::uint32_t> cell_start_;
   std::vector<double> xb_, yb_;

@@ -421,11 +421,11 @@ unsigned box_search_budget(std::size_t sites) {
 /// Hull-hugging sites are another matter (uniform 4096^2: 76 of them cost the seam 9 ms): they
 /// are the edge's. Up to 2^20 sites the whole budget is 2^13 already.
 unsigned interior_retry_budget(unsigned budget) { return std::min(budget, 1u << 13); }
-/// Device memory per site of the star layout: points twice and once in floats, cell keys and ids twice, rank,
+/// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
 /// a site); an inbox (StarInbox) for every other site.
 std::size_t per_site_bytes() {
-  return 2 * sizeof(double2) + sizeof(float2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
+  return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
          2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 1) * sizeof(int) / 2 + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }

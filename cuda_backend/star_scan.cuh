@@ -16,7 +16,6 @@
 //                perturbation (rare), then back into the scan after it.
 // A search ends when the best candidate's region lies inside the cells visited.
 #include "predicates/apex_filter.hpp"
-#include "predicates/apex_screen.hpp"
 #include "star_walk.cuh"
 
 namespace expanse::detail::cuda {
@@ -198,32 +197,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   int v0 = -1, v = -1;
   unsigned work = 0, predicates = 0;
   SearchBounds bounds;
-  // The single-precision screen's frame (apex_screen.hpp): a = s and no B in the
-  // nearest-neighbour search; each edge and each better candidate update it. `screening`: this
-  // search screens its candidates. The float copies carry 2^-24 of absolute error, so where a
-  // search's sites lie closer than kScreenReach (the centre of a kuzmin disc at 4096^2: edges
-  // near 2^-23) the screen would settle few candidates and cost every one; such searches go
-  // straight to the double filters.
-  constexpr double kScreenReach = 0x1p-15;
-  const bool screened = g.points_f != nullptr;
-  bool screening = screened;  // a nearest-neighbour search without a best: every candidate is better
-  ex::ScreenFrame frame;
-  if (screened) {
-    frame.ax = ex::nearest_float(ps.x);
-    frame.ay = ex::nearest_float(ps.y);
-  }
-  // A better candidate becomes the best: its point, its squared distance to a (as the filters
-  // form it) and the screen's C.
-  auto set_best = [&](int ip) {
-    best = ip;
-    best_p = load_site(g.points, ip);
-    best_d2 = ex::apex_point(ex::apex_edge(pa.x, pa.y, pb.x, pb.y), best_p.x, best_p.y).d2;
-    if (phase == nearest) screening = screened && fabs(best_p.x - ps.x) + fabs(best_p.y - ps.y) >= kScreenReach;
-    if (screening) {
-      frame.cx = ex::screen_leaf(best_p.x, pa.x);
-      frame.cy = ex::screen_leaf(best_p.y, pa.y);
-    }
-  };
 
   // The cells where a site better than `best` could lie, with `bounds` set to match.
   auto region_of_best = [&]() {
@@ -265,28 +238,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     }
   };
   // Candidate ip's verdict against the best: 0 reject, 1 better than the best, 2 the
-  // filters cannot tell. Straight-line: no branch that differs by search phase. The screen
-  // decides first where there is one; the double filters see only what it leaves open.
-  auto judge = [&](int ip) {
-    if constexpr (!ExactLattice) {
-      if (screening) {
-        const float2 pf = load_site(g.points_f, ip);
-        const ex::ScreenVerdict sv = ex::apex_screen(frame, pf.x, pf.y, phase == nearest, best >= 0);
-        // a, b and the best are never candidates (see below); the screen cannot decide them
-        // (zero orientations, incircles or distances), and the double filters need not see them.
-        const bool own = ip == i || ip == v || ip == best;
-        if (sv.better || sv.reject || own) {
-          predicates += phase != nearest ? 1u + (sv.left && best >= 0) : 0u;
-          return sv.better && !own ? 1 : 0;
-        }
-      }
-    }
-    const double2 p = load_site(g.points, ip);
+  // filters cannot tell. Straight-line: no branch that differs by search phase.
+  auto judge = [&](int ip, double2& p, double& d2) {
+    p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations.
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
-    const double d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
+    d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
     const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
     const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, ex::apex_point(edge, best_p.x, best_p.y)), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
@@ -337,8 +296,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   // What the thread does with a flagged candidate: take it if better, and leave the
   // candidate loop to decide it exactly or, in a large box planned from a worse
   // candidate's region, to narrow the rest of the scan to the better one's.
-  auto take = [&](int ip, int verdict) {
-    if (verdict == 1) set_best(ip);
+  auto take = [&](int ip, int verdict, double2 p, double d2) {
+    if (verdict == 1) {
+      best = ip;
+      best_p = p;
+      best_d2 = d2;
+    }
     if (verdict == 2 || (verdict == 1 && big_scan)) {
       pending = verdict == 2 ? ip : -1;
       narrow = verdict == 1;
@@ -354,16 +317,22 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   struct LaneTest {
     unsigned seen;
     int first, verdict;
+    double2 p;
+    double d2;
   };
   auto test_lanes = [&](bool valid, std::uint32_t candidate, unsigned available) {
+    double2 p = best_p;
+    double d2 = 0.0;
     const unsigned saved = predicates;
-    const int verdict = valid ? judge(static_cast<int>(candidate)) : 0;
+    const int verdict = valid ? judge(static_cast<int>(candidate), p, d2) : 0;
     const unsigned flagged = __ballot_sync(0xffffffffu, verdict != 0);
-    LaneTest t{flagged ? static_cast<unsigned>(__ffs(flagged)) : min(32u, available), -1, 0};
+    LaneTest t{flagged ? static_cast<unsigned>(__ffs(flagged)) : min(32u, available), -1, 0, p, d2};
     if ((threadIdx.x & 31) >= t.seen) predicates = saved;
     if (flagged) {
       t.first = static_cast<int>(t.seen) - 1;
       t.verdict = __shfl_sync(0xffffffffu, verdict, t.first);
+      t.p = make_double2(__shfl_sync(0xffffffffu, p.x, t.first), __shfl_sync(0xffffffffu, p.y, t.first));
+      t.d2 = __shfl_sync(0xffffffffu, d2, t.first);
     }
     return t;
   };
@@ -425,7 +394,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       const int ip = static_cast<int>(__shfl_sync(0xffffffffu, candidate, first));
       slot_end = at_part == 0 ? at_a1 : at_b1;
       slot = static_cast<std::uint32_t>(ip);
-      if (!take(ip, t.verdict)) ++slot;
+      if (!take(ip, t.verdict, t.p, t.d2)) ++slot;
       return;
     }
     // None flagged: after the last row, as the thread would leave it.
@@ -465,8 +434,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
           if constexpr (By == Walker::thread) {
             for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
               ++work;
-              const int verdict = judge(static_cast<int>(slot));
-              if (verdict != 0 && take(static_cast<int>(slot), verdict)) break;
+              double2 p;
+              double d2;
+              const int verdict = judge(static_cast<int>(slot), p, d2);
+              if (verdict != 0 && take(static_cast<int>(slot), verdict, p, d2)) break;
               if (work > budget) break;
             }
           }
@@ -484,7 +455,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
               }
               const int ip = static_cast<int>(slot) + t.first;
               slot = static_cast<std::uint32_t>(ip);
-              if (take(ip, t.verdict)) break;
+              if (take(ip, t.verdict, t.p, t.d2)) break;
               ++slot;
               if (work > budget) break;
             }
@@ -589,13 +560,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       bounds.disc = false;
       bounds.a = pa;
       bounds.b = pb;
-      screening = screened && fabs(pb.x - pa.x) + fabs(pb.y - pa.y) >= kScreenReach;
-      if (screening) {
-        frame.ax = ex::nearest_float(pa.x);
-        frame.ay = ex::nearest_float(pa.y);
-        frame.bx = ex::screen_leaf(pb.x, pa.x);
-        frame.by = ex::screen_leaf(pb.y, pa.y);
-      }
       // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
       // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
       const double bax = pb.x - pa.x, bay = pb.y - pa.y;
@@ -624,7 +588,11 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       reason = DeferReason::undecided;
       break;
     }
-    if (verdict == 1) set_best(ip);
+    if (verdict == 1) {
+      best = ip;
+      best_p = load_site(g.points, ip);
+      best_d2 = dist2(ps, best_p);
+    }
     slot = static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
   }

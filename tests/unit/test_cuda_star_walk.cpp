@@ -136,42 +136,6 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
   }
 }
 
-TEST_CASE("CUDA star walk on the CPU: the single-precision screen changes no decision", "[cuda][star][screen]") {
-  // The screen (predicates/apex_screen.hpp) only answers what it knows exactly and leaves the rest
-  // to the double filters, so with it and without it every walk must take the same steps: the
-  // same stars, the same work, the same deferred sites, in one phase and in two.
-  int walked = 0, runs = 0;  // runs that made triangles (a family whose every star defers proves nothing)
-  for (const auto& family : test::families()) {
-    const std::size_t n = std::min<std::size_t>(family.max_n, 6000);
-    const std::vector<Point2> points = family.generate(n, 11);
-    const SiteSet sites = prepare_sites(points);
-    const Hull hull = convex_hull(sites);
-    if (hull.collinear) continue;
-    for (const bool quantile : {true, false}) {
-      for (const bool two_phases : {false, true}) {
-        {
-          INFO(family.name << (quantile ? " quantile" : " uniform") << (two_phases ? ", two phases" : ""));
-          cuda::HostStarLayout layout(sites, hull, 2.0, quantile);
-          layout.set_screen(true);
-          const cuda::StarWorkTotals screened = layout.walk_all(0, 1, cuda::StarSearch::boxes, two_phases);
-          const std::vector<Triangle> with = layout.owned_triangles_in_site_ids();
-          const std::vector<bool> deferred_with = layout.deferred_sites();
-          layout.set_screen(false);
-          const cuda::StarWorkTotals plain = layout.walk_all(0, 1, cuda::StarSearch::boxes, two_phases);
-          CHECK(layout.owned_triangles_in_site_ids() == with);
-          CHECK(layout.deferred_sites() == deferred_with);
-          CHECK(screened.work == plain.work);
-          CHECK(screened.max_work == plain.max_work);
-          CHECK(screened.deferred == plain.deferred);
-          walked += !with.empty();
-          ++runs;
-        }
-      }
-    }
-  }
-  CHECK(walked >= runs * 9 / 10);
-}
-
 TEST_CASE("CUDA star walk on the CPU: the first pass's light walk makes the full walk's star, or hands on",
           "[cuda][star]") {
   // The first pass walks without the exact path and without cutting rows to the search's region
