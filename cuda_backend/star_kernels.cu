@@ -526,9 +526,16 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // pass walked light: then 8 won on uniform cells too (session 11 call 12, star kernel, 8
   // against 6, two rounds: uniform 4096^2 47.7 / 49.9 ms, 512^2 2.31 / 2.27; gaussian and
   // kuzmin, on quantile cells, 63.1 / 66.5 and 95.8 / 104.3). Integer coordinates that are not
-  // a small lattice were not measured again and keep 6.
+  // a small lattice were not measured again and keep 6. Since then (the phases, the first
+  // box, the ends-first order) 6 has won back uniform cells at every size (session 20 call 4,
+  // GPU-only, 6 against 8, two rounds: 512^2 2.59 / 2.56 against 2.65 / 2.61 ms, 1024^2 4.91 /
+  // 4.92 against 5.11 / 5.15, 2048^2 17.05 / 16.85 against 18.47 / 18.48, 4096^2 38.62 / 38.64
+  // against 39.15 / 39.14), while kuzmin, on quantile cells, still loses (call 3: 73.3 against
+  // 68.8-70.3 ms). So 8 for quantile cells only.
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
-  const int blocks_per_sm = blocks_env ? std::atoi(blocks_env) : input.sites.integer_coordinates ? 6 : 8;
+  const int blocks_per_sm = blocks_env                                              ? std::atoi(blocks_env)
+                            : input.sites.integer_coordinates || buckets.uniform() ? 6
+                                                                                   : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
   // first_pass_budget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
@@ -677,6 +684,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       walk_passes(std::integral_constant<int, 6>{}, std::true_type{});
     else if (blocks_per_sm >= 8)
       walk_passes(std::integral_constant<int, 8>{}, std::false_type{});
+    else if (blocks_per_sm == 5)  // session 20 call 5 measures these two; not to stay unless they win
+      walk_passes(std::integral_constant<int, 5>{}, std::false_type{});
+    else if (blocks_per_sm <= 4)
+      walk_passes(std::integral_constant<int, 4>{}, std::false_type{});
     else
       walk_passes(std::integral_constant<int, 6>{}, std::false_type{});
   }
