@@ -513,9 +513,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
 
   timer.begin("stars");
   StreamTimeline timeline;
-  // EXPANSE_CUDA_BLOCKS_PER_SM (6 or 8) caps the star kernel's registers so that that many
+  // EXPANSE_CUDA_BLOCKS_PER_SM (4, 6 or 8) caps the star kernel's registers so that that many
   // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
-  // 64 at 8, 80 at 6). 6 for integer coordinates: a lattice's cocircular cells send most
+  // 64 at 8, 80 at 6, 128 at 4). 6 for integer coordinates: a lattice's cocircular cells send most
   // candidates to the out-of-line exact decision, and the registers live across that call
   // spill at 64. H100, 2026-11-24 (session 6 call 7, star kernel, 6 against 8, one run):
   // grid 4096^2 252.8 against 308.0 ms, 2048^2 63.5 / 77.4, 512^2 4.00 / 4.83; uniform 78.1 /
@@ -530,12 +530,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // box, the ends-first order) 6 has won back uniform cells at every size (session 20 call 4,
   // GPU-only, 6 against 8, two rounds: 512^2 2.59 / 2.56 against 2.65 / 2.61 ms, 1024^2 4.91 /
   // 4.92 against 5.11 / 5.15, 2048^2 17.05 / 16.85 against 18.47 / 18.48, 4096^2 38.62 / 38.64
-  // against 39.15 / 39.14), while kuzmin, on quantile cells, still loses (call 3: 73.3 against
-  // 68.8-70.3 ms). So 8 for quantile cells only.
+  // against 39.15 / 39.14), and 4 (128 registers) wins up to 2048^2 (calls 5 and 6, GPU-only,
+  // two rounds each, 4 / 5 / 6 / 8 blocks: 512^2 2.54 / 2.57 / 2.62 / 2.72 ms, 1024^2 4.59 / 4.68 /
+  // 4.97 / 5.10, 2048^2 15.6 / 16.4 / 17.0 / 18.4, but 2896^2 23.4 / 22.3 / 21.5 / 23.3 and
+  // 4096^2 42.7 / 40.3 / 38.7 / 39.2): below ~2^22 sites the points fit in L2 and a thread's
+  // registers matter more than how many threads hide memory's latency. Quantile cells keep 8:
+  // kuzmin loses below 8 at 2048^2 (22.5 against 23.1-25.0 ms) and 4096^2 (68.8 against
+  // 73.3 at 6), gaussian neither gains nor loses from 1024^2 on (call 6).
   const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
-  const int blocks_per_sm = blocks_env                                              ? std::atoi(blocks_env)
-                            : input.sites.integer_coordinates || buckets.uniform() ? 6
-                                                                                   : 8;
+  const bool uniform_floats = buckets.uniform() && !input.sites.integer_coordinates;
+  const int blocks_per_sm = blocks_env                        ? std::atoi(blocks_env)
+                            : uniform_floats                  ? (n <= (std::size_t{1} << 22) ? 4 : 6)
+                            : input.sites.integer_coordinates ? 6
+                                                              : 8;
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
   // first_pass_budget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
@@ -684,8 +691,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       walk_passes(std::integral_constant<int, 6>{}, std::true_type{});
     else if (blocks_per_sm >= 8)
       walk_passes(std::integral_constant<int, 8>{}, std::false_type{});
-    else if (blocks_per_sm == 5)  // session 20 call 5 measures these two; not to stay unless they win
-      walk_passes(std::integral_constant<int, 5>{}, std::false_type{});
     else if (blocks_per_sm <= 4)
       walk_passes(std::integral_constant<int, 4>{}, std::false_type{});
     else
