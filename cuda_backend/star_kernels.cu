@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <future>
@@ -421,6 +422,29 @@ unsigned box_search_budget(std::size_t sites) {
 /// Hull-hugging sites are another matter (uniform 4096^2: 76 of them cost the seam 9 ms): they
 /// are the edge's. Up to 2^20 sites the whole budget is 2^13 already.
 unsigned interior_retry_budget(unsigned budget) { return std::min(budget, 1u << 13); }
+
+/// Blocks of 128 threads a multiprocessor that the star kernels' registers allow (4, 6 or 8):
+/// the first phase's (and the main stream's lists of sites to walk again), the second
+/// phase's, and the edge stream's (EdgeCells).
+struct StarBlocks {
+  int first, later, edge;
+};
+/// "B" (every kernel) or "F,L,E".
+StarBlocks parse_star_blocks(const char* text) {
+  int v[3] = {0, 0, 0};
+  const int got = std::sscanf(text, "%d,%d,%d", &v[0], &v[1], &v[2]);
+  return got == 3 ? StarBlocks{v[0], v[1], v[2]} : StarBlocks{v[0], v[0], v[0]};
+}
+/// f(std::integral_constant<int, 4, 6 or 8>): the kernels are compiled for these three.
+template <class F>
+void with_star_blocks(int blocks, F&& f) {
+  if (blocks >= 8)
+    f(std::integral_constant<int, 8>{});
+  else if (blocks <= 4)
+    f(std::integral_constant<int, 4>{});
+  else
+    f(std::integral_constant<int, 6>{});
+}
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
 /// a site); an inbox (StarInbox) for every other site.
@@ -537,12 +561,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // registers matter more than how many threads hide memory's latency. Quantile cells keep 8:
   // kuzmin loses below 8 at 2048^2 (22.5 against 23.1-25.0 ms) and 4096^2 (68.8 against
   // 73.3 at 6), gaussian neither gains nor loses from 1024^2 on (call 6).
-  const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM");
   const bool uniform_floats = buckets.uniform() && !input.sites.integer_coordinates;
-  const int blocks_per_sm = blocks_env                        ? std::atoi(blocks_env)
-                            : uniform_floats                  ? (n <= (std::size_t{1} << 22) ? 4 : 6)
+  const int blocks_per_sm = uniform_floats                  ? (n <= (std::size_t{1} << 22) ? 4 : 6)
                             : input.sites.integer_coordinates ? 6
                                                               : 8;
+  StarBlocks star_blocks{blocks_per_sm, blocks_per_sm, blocks_per_sm};
+  // EXPANSE_CUDA_BLOCKS_PER_SM=B sets every star kernel's; =F,L,E the first phase's (and the
+  // main stream's lists), the second phase's and the edge stream's apart.
+  if (const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM")) star_blocks = parse_star_blocks(blocks_env);
   // The sites are walked in two passes (WalkPass): the first, a thread per site, with budget
   // first_pass_budget (EXPANSE_CUDA_FIRST_BUDGET; 0: one pass with the full budget).
   const char* first_env = std::getenv("EXPANSE_CUDA_FIRST_BUDGET");
@@ -619,8 +645,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
-    auto walk_passes = [&](auto min_blocks, auto lattice) {
-      constexpr int blocks = decltype(min_blocks)::value;
+    auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
+      constexpr int blocks = decltype(first_blocks)::value;
+      constexpr int later_b = decltype(later_blocks)::value;
+      constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       cudaEvent_t fork = nullptr, join = nullptr;
       timeline.mark("start", stream);
@@ -632,19 +660,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, fork));
         const cudaStream_t es = ctx.edge_stream;
         if (light) {
-          star_list_kernel<StarSearch::boxes, blocks, exact, true><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, true><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
-          star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
-        star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, es>>>(
+        star_retry_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", es);
@@ -665,14 +693,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (light) {
         walk_phases(star_kernel<StarSearch::boxes, blocks, exact, true>,
-                    star_kernel<StarSearch::boxes, blocks, exact, true, true>, d_undecided.get());
+                    star_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
         star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
       } else {
-        walk_phases(star_kernel<StarSearch::boxes, blocks, exact>, star_kernel<StarSearch::boxes, blocks, exact, false, true>,
-                    nullptr);
+        walk_phases(star_kernel<StarSearch::boxes, blocks, exact>,
+                    star_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
@@ -687,14 +715,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       }
     };
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
+    constexpr std::integral_constant<int, 6> six{};
     if (exact_lattice)
-      walk_passes(std::integral_constant<int, 6>{}, std::true_type{});
-    else if (blocks_per_sm >= 8)
-      walk_passes(std::integral_constant<int, 8>{}, std::false_type{});
-    else if (blocks_per_sm <= 4)
-      walk_passes(std::integral_constant<int, 4>{}, std::false_type{});
+      walk_passes(six, six, six, std::true_type{});
     else
-      walk_passes(std::integral_constant<int, 6>{}, std::false_type{});
+      with_star_blocks(star_blocks.first, [&](auto first) {
+        with_star_blocks(star_blocks.later, [&](auto later) {
+          with_star_blocks(star_blocks.edge, [&](auto edge_b) { walk_passes(first, later, edge_b, std::false_type{}); });
+        });
+      });
   }
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
