@@ -562,16 +562,17 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // differ (call 7's timelines at 4096^2 uniform: the first phase ends at 22.9 ms with 8 blocks
   // against 23.6 with 6, the second takes 8.2 ms with 6 against 9.4 with 8), so each group has
   // its own count (StarBlocks; call 8, GPU-only, two rounds): uniform 4096^2 8,6,6 37.67 / 37.69
-  // ms against 6,6,6 38.65 / 38.65; gaussian 4096^2 8,6,8 47.73 / 47.73 against 8,8,8 48.47 /
-  // 48.45, 2048^2 17.01 / 16.99 against 17.29 / 17.09; kuzmin within its noise (4096^2 69.39 /
-  // 68.95 against 67.93 / 69.11). Up to 2^22 sites uniform cells keep 4 everywhere (2048^2:
-  // 4,4,4 15.37 / 15.47 against 8,6,4 16.59 / 16.70). Kuzmin lost below 8 in the first phase
-  // (call 6: 2048^2 22.5 ms at 8 against 23.1-25.0).
+  // ms against 6,6,6 38.65 / 38.65. Up to 2^22 sites uniform cells keep 4 everywhere (2048^2:
+  // 4,4,4 15.37 / 15.47 against 8,6,4 16.59 / 16.70). Quantile cells keep 8 everywhere: a
+  // second phase at 6 gained gaussian 0.7 ms at 4096^2 (47.73 / 47.73 against 48.47 / 48.45) but
+  // lost kuzmin as much (call 9, three rounds alternated: 69.92 / 69.56 / 71.02 against 69.90 /
+  // 69.40 / 68.91 ms), and kuzmin is the input furthest from its goal; kuzmin also lost below 8
+  // in the first phase (call 6: 2048^2 22.5 ms at 8 against 23.1-25.0).
   const bool uniform_floats = buckets.uniform() && !input.sites.integer_coordinates;
   StarBlocks star_blocks = uniform_floats                    ? (n <= (std::size_t{1} << 22) ? StarBlocks{4, 4, 4}
                                                                                             : StarBlocks{8, 6, 6})
                            : input.sites.integer_coordinates ? StarBlocks{6, 6, 6}
-                                                             : StarBlocks{8, 6, 8};
+                                                             : StarBlocks{8, 8, 8};
   // EXPANSE_CUDA_BLOCKS_PER_SM=B sets every star kernel's; =F,L,E the first phase's (and the
   // main stream's lists), the second phase's and the edge stream's apart.
   if (const char* blocks_env = std::getenv("EXPANSE_CUDA_BLOCKS_PER_SM")) star_blocks = parse_star_blocks(blocks_env);
