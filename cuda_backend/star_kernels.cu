@@ -653,7 +653,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
     auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
-      constexpr int blocks = decltype(first_blocks)::value;
+      constexpr int first_b = decltype(first_blocks)::value;
       constexpr int later_b = decltype(later_blocks)::value;
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
@@ -699,18 +699,18 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (light) {
-        walk_phases(star_kernel<StarSearch::boxes, blocks, exact, true>,
+        walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
                     star_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
-        star_list_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
+        star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
       } else {
-        walk_phases(star_kernel<StarSearch::boxes, blocks, exact>,
+        walk_phases(star_kernel<StarSearch::boxes, first_b, exact>,
                     star_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (two_passes)
-        star_retry_kernel<StarSearch::boxes, blocks, exact><<<retry_blocks, 128, 0, stream>>>(
+        star_retry_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
             d_retry.get(),
             d_counters.get() + 7);
