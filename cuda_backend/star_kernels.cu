@@ -429,7 +429,7 @@ unsigned interior_retry_budget(unsigned budget) { return std::min(budget, 1u << 
 struct StarBlocks {
   int first, later, edge;
 };
-/// "B" (every kernel) or "F,L,E".
+/// "F,L,E", or "B" for every group (any other text: its first number for every group).
 StarBlocks parse_star_blocks(const char* text) {
   int v[3] = {0, 0, 0};
   const int got = std::sscanf(text, "%d,%d,%d", &v[0], &v[1], &v[2]);
