@@ -40,6 +40,10 @@ struct StarWorkTotals {
   /// lane is done.
   std::uint64_t lockstep_work_8 = 0;
   std::uint64_t lockstep_work_32 = 0;
+  /// Two phases: the odd sites whose stars their inboxes held whole (walk_from_inbox), and of
+  /// those, with verify_inbox_walks, the ones whose full walk made another star (must be 0).
+  std::uint64_t from_inbox = 0;
+  std::uint64_t inbox_walk_mismatches = 0;
 };
 
 class HostStarLayout {
@@ -126,11 +130,28 @@ class HostStarLayout {
         int* row = star_.data() + i * kStar;
         const int s = static_cast<int>(i);
         StarWalk w;
-        if (search == StarSearch::rings)
+        auto reading_walk = [&](int* into) {
+          return exact_lattice_
+                     ? walk_star_by<StarSearch::boxes, true, false, true>(grid_, pred_.data(), s, into, budget, inbox)
+                     : walk_star_by<StarSearch::boxes, false, false, true>(grid_, pred_.data(), s, into, budget, inbox);
+        };
+        if (search == StarSearch::rings) {
           w = walk_star_by<StarSearch::rings>(grid_, pred_.data(), s, row, budget);
-        else if (inbox.reading)
-          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true, false, true>(grid_, pred_.data(), s, row, budget, inbox)
-                             : walk_star_by<StarSearch::boxes, false, false, true>(grid_, pred_.data(), s, row, budget, inbox);
+        } else if (inbox.reading && walk_from_inbox(pred_.data(), s, row, inbox, &w)) {
+          // As the second phase's inbox_star_kernel: no search. With verify_inbox_walks, the
+          // full walk must make the same star.
+          ++totals.from_inbox;
+          if (verify_inbox_walks_) {
+            std::array<int, kStar> full{};
+            full.fill(-1);
+            const StarWalk f = reading_walk(full.data());
+            const std::uint32_t info = star_info(w);
+            bool same = f.ok && star_info(f) == info;
+            for (int t = 0; same && t < star_degree(info); ++t) same = star_at(full.data(), info, 0, t) == star_at(row, info, 0, t);
+            totals.inbox_walk_mismatches += !same;
+          }
+        } else if (inbox.reading)
+          w = reading_walk(row);
         else
           w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), s, row, budget)
                              : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), s, row, budget);
@@ -179,6 +200,8 @@ class HostStarLayout {
       totals.deferred_undecided += t.deferred_undecided;
       totals.deferred_full_row += t.deferred_full_row;
       totals.deferred_no_apex += t.deferred_no_apex;
+      totals.from_inbox += t.from_inbox;
+      totals.inbox_walk_mismatches += t.inbox_walk_mismatches;
     }
     // Groups of a phase's sites, as its kernel's threads take them.
     auto lockstep = [&](std::size_t group) {
@@ -196,6 +219,10 @@ class HostStarLayout {
     totals.lockstep_work_32 = lockstep(32);
     return totals;
   }
+
+  /// walk_all() then also walks every star taken from an inbox in full, and counts where the
+  /// two differ (StarWorkTotals::inbox_walk_mismatches).
+  void verify_inbox_walks(bool on) { verify_inbox_walks_ = on; }
 
   /// Site i's walk by box scans into `row`, as the kernels' passes walk it: the full walk, or
   /// the first pass's light one (walk_star_boxes' FirstPass).
@@ -262,6 +289,7 @@ class HostStarLayout {
   std::vector<int> star_;
   std::vector<std::uint32_t> info_;
   std::vector<std::uint32_t> work_of_;
+  bool verify_inbox_walks_ = false;
 };
 
 }  // namespace expanse::detail::cuda

@@ -147,18 +147,57 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
 ///    first pass's budget. Nearly cocircular float inputs (decimal grids) send nearly every site
 ///    here: a warp each they took 115 ms at 1024^2 (H100, session 12 call 3);
 ///  - the first pass of the grid's edge (EdgeCells), on its own stream.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
+///  - the second phase's sites that need a search (inbox_star_kernel), reading their inboxes
+///    (ReadsInbox), in the phase's pass.
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, const int* pred, int* star,
                                                                    std::uint32_t* info, int* owned,
                                                                    unsigned int* counters, unsigned budget,
                                                                    const int* list, const unsigned int* count,
                                                                    int* retry_list, int* undecided_list,
-                                                                   unsigned int* list_counts) {
+                                                                   unsigned int* list_counts,
+                                                                   WalkPass pass = WalkPass::first,
+                                                                   StarInbox inbox = {}) {
   const unsigned sites = *count;
   for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
-    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass>(g, pred, list[k], star, info, owned, counters,
-                                                                     budget, WalkPass::first, retry_list,
-                                                                     undecided_list, list_counts);
+    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox>(
+        g, pred, list[k], star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
+}
+
+/// The second phase's first step (StarInbox): an odd site whose inbox holds its whole star
+/// (walk_from_inbox) is recorded here, with no search; the others are listed in `search_list`
+/// (*search_count long), in the phase's order within each warp, for star_list_kernel. Counted on
+/// the CPU (10^6 sites, quantile cells), 45% of the odd sites need no search, and in the phase's
+/// kernel their lanes only waited for those that did: packed 32 searching sites to a warp, the
+/// phase's lock-step work falls 25% (uniform), 30% (kuzmin), 35% (gaussian).
+__global__ void __launch_bounds__(128) inbox_star_kernel(const int* pred, int n, int* star, std::uint32_t* info,
+                                                         int* owned, EdgeCells edge, StarInbox inbox,
+                                                         int* search_list, unsigned int* search_count,
+                                                         bool ends_first) {
+  const int b = ends_first ? ends_first_block(static_cast<int>(blockIdx.x), static_cast<int>(gridDim.x))
+                           : static_cast<int>(blockIdx.x);
+  const int i = (b * static_cast<int>(blockDim.x) + static_cast<int>(threadIdx.x)) * 2 + 1;
+  bool search = false;
+  if (i < n && !edge.holds(i)) {
+    int* row = star + static_cast<std::size_t>(i) * kStar;
+    StarWalk w;
+    if (walk_from_inbox(pred, i, row, inbox, &w)) {
+      const std::uint32_t inf = star_info(w);
+      info[i] = inf;
+      owned[i] = owned_triangles(star, inf, i);
+    } else {
+      search = true;
+    }
+  }
+  // One atomic a warp, and the warp's sites listed in lane order: neighbouring sites stay
+  // together for the walks.
+  const unsigned listed = __ballot_sync(0xffffffffu, search);
+  if (!listed) return;
+  const unsigned lane = threadIdx.x & 31, leader = __ffs(listed) - 1;
+  unsigned base = 0;
+  if (lane == leader) base = atomicAdd(search_count, static_cast<unsigned>(__popc(listed)));
+  base = __shfl_sync(0xffffffffu, base, leader);
+  if (search) search_list[base + __popc(listed & ((1u << lane) - 1u))] = i;
 }
 
 /// The second pass: the sites a first pass listed (*count of them), with the full budget, each
@@ -447,10 +486,11 @@ void with_star_blocks(int blocks, F&& f) {
 }
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
-/// a site); an inbox (StarInbox) for every other site.
+/// a site); an inbox (StarInbox) and a place in the second phase's search list for every other
+/// site.
 std::size_t per_site_bytes() {
   return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
-         2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 1) * sizeof(int) / 2 + 64;
+         2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 2) * sizeof(int) / 2 + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
@@ -492,7 +532,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  DeviceArray<unsigned int> d_counters(12, stream);  // [9..11]: the edge's lists (EdgeCells)
+  // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search
+  DeviceArray<unsigned int> d_counters(13, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -652,6 +693,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
+    // The second phase records the stars that its sites' inboxes hold whole before it walks the
+    // others (inbox_star_kernel); EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
+    const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
+    const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
+    DeviceArray<int> d_search(inbox_first ? inboxes : 0, stream);
     auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
       constexpr int first_b = decltype(first_blocks)::value;
       constexpr int later_b = decltype(later_blocks)::value;
@@ -686,28 +732,42 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaEventRecord(join, es));
       }
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
-      auto walk_phases = [&](auto first, auto later, int* undecided) {
+      // The second phase either walks every odd site, or first records those whose inboxes hold
+      // their whole stars (inbox_star_kernel) and walks the rest from a list (`later_list`).
+      auto walk_phases = [&](auto first, auto later, auto later_list, int* undecided) {
         for (int phase = 0; phase < phases; ++phase) {
           const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase == 1};
           const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
           if (sites == 0) continue;
-          (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
-              g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
-              pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
+          if (phase > 0 && inbox_first) {
+            inbox_star_kernel<<<blocks_for(sites, 128), 128, 0, stream>>>(
+                d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
+                d_search.get(), d_counters.get() + 12, ends_first);
+            timeline.mark("phase 1 from inboxes", stream);
+            later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
+                g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
+                d_search.get(), d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
+          } else {
+            (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
+                g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
+                pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
+          }
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (light) {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
-                    star_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
+                    star_kernel<StarSearch::boxes, later_b, exact, true, true>,
+                    star_list_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
         star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
       } else {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact>,
-                    star_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
+                    star_kernel<StarSearch::boxes, later_b, exact, false, true>,
+                    star_list_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(

@@ -82,6 +82,53 @@ EXPANSE_DEVICE StarWalk walk_star(const GridView& g, const int* pred, int i, int
   return w;
 }
 
+/// Odd site i's star taken from its inbox alone (StarInbox), as walk_star_boxes' reading walk
+/// takes it: the posted first neighbour, then step after step, counter-clockwise and, past an
+/// outer edge, clockwise, into row[] and *w laid out as that walk lays them. False at the first
+/// step the inbox does not hold (or anything the full walk would defer at): the site then needs
+/// the full walk, which makes the same steps before its first search. Both agree on every star
+/// the inbox holds whole (tests/unit/test_cuda_star_walk.cpp compares them on the CPU).
+EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const StarInbox& inbox, StarWalk* w) {
+  const int v0 = inbox.first_neighbour(i);
+  if (v0 < 0) return false;
+  const int pred_s = pred[i];
+  int ccw = 1, cw = 0;
+  bool clockwise = false, closed = false;
+  unsigned steps = 0;
+  int v = v0;
+  row[0] = v0;
+  for (;;) {
+    if (!clockwise && pred_s == v) {
+      clockwise = true;  // s->v is an outer edge: the rest lies clockwise from v0
+      v = v0;
+    }
+    if (clockwise && pred[v] == i) break;  // v->s is an outer edge: the star is complete
+    const int c = inbox.apex(i, v, !clockwise);
+    if (c < 0) return false;
+    ++steps;
+    if (c == v0) {
+      if (clockwise) return false;  // the full walk defers here (no apex)
+      closed = true;
+      break;
+    }
+    if (ccw + cw >= kStar) return false;  // the full walk defers here (full row)
+    if (clockwise)
+      row[kStar - 1 - cw++] = c;
+    else
+      row[ccw++] = c;
+    v = c;
+  }
+  w->ok = true;
+  w->reason = DeferReason::none;
+  w->closed = closed;
+  w->ccw = ccw;
+  w->cw = cw;
+  w->predicates = 0;
+  w->work = steps;
+  w->handed_on = false;
+  return true;
+}
+
 /// The packed per-site info of a finished walk (star_common.cuh).
 EXPANSE_DEVICE_FORCE std::uint32_t star_info(const StarWalk& w) {
   return static_cast<std::uint32_t>(w.ccw + w.cw) | (static_cast<std::uint32_t>((kStar - w.cw) & (kStar - 1)) << 8) |

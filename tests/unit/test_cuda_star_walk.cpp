@@ -48,7 +48,10 @@ cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::Sta
   const Hull hull = convex_hull(sites);
   REQUIRE(!hull.collinear);
   cuda::HostStarLayout layout(sites, hull, 2.0, quantile);
+  layout.verify_inbox_walks(two_phases);
   const cuda::StarWorkTotals totals = layout.walk_all(0, 1, search, two_phases);
+  // A star taken whole from the inbox is the star the full walk makes.
+  CHECK(totals.inbox_walk_mismatches == 0);
   const std::vector<bool> deferred = layout.deferred_sites();
 
   std::set<std::array<std::int32_t, 3>> expected;
@@ -129,6 +132,7 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
             // neighbour runs other searches, and check_family bounds them.)
             const cuda::StarWorkTotals phased = check_family(family, quantile, search, true);
             if (alone.deferred == 0) CHECK(phased.predicates < alone.predicates);
+            if (alone.deferred == 0) CHECK(phased.from_inbox > 0);  // stars taken whole from inboxes
           }
         }
       }
