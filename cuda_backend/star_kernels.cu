@@ -697,7 +697,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // others (inbox_star_kernel); EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
     const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
-    DeviceArray<int> d_search(inbox_first ? inboxes : 0, stream);
+    DeviceArray<int> d_search(inboxes, stream);
     auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
       constexpr int first_b = decltype(first_blocks)::value;
       constexpr int later_b = decltype(later_blocks)::value;
