@@ -166,17 +166,21 @@ __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, c
 
 /// The second phase's first step (StarInbox): an odd site whose inbox holds its whole star
 /// (walk_from_inbox) is recorded here, with no search; the others are listed in `search_list`
-/// (*search_count long), in the phase's order within each warp, for star_list_kernel. Counted on
+/// (*search_count long), in the phase's order within each block, for star_list_kernel. Counted on
 /// the CPU (10^6 sites, quantile cells), 45% of the odd sites need no search, and in the phase's
 /// kernel their lanes only waited for those that did: packed 32 searching sites to a warp, the
-/// phase's lock-step work falls 25% (uniform), 30% (kuzmin), 35% (gaussian).
-__global__ void __launch_bounds__(128) inbox_star_kernel(const int* pred, int n, int* star, std::uint32_t* info,
-                                                         int* owned, EdgeCells edge, StarInbox inbox,
-                                                         int* search_list, unsigned int* search_count,
-                                                         bool ends_first) {
+/// phase's lock-step work falls 25% (uniform), 30% (kuzmin), 35% (gaussian). One atomic a block
+/// for the list's room.
+constexpr int kInboxThreads = 256;
+__global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pred, int n, int* star,
+                                                                   std::uint32_t* info, int* owned, EdgeCells edge,
+                                                                   StarInbox inbox, int* search_list,
+                                                                   unsigned int* search_count, bool ends_first) {
+  __shared__ unsigned int warp_base[kInboxThreads / 32];
+  __shared__ unsigned int block_base;
   const int b = ends_first ? ends_first_block(static_cast<int>(blockIdx.x), static_cast<int>(gridDim.x))
                            : static_cast<int>(blockIdx.x);
-  const int i = (b * static_cast<int>(blockDim.x) + static_cast<int>(threadIdx.x)) * 2 + 1;
+  const int i = (b * kInboxThreads + static_cast<int>(threadIdx.x)) * 2 + 1;
   bool search = false;
   if (i < n && !edge.holds(i)) {
     int* row = star + static_cast<std::size_t>(i) * kStar;
@@ -189,15 +193,23 @@ __global__ void __launch_bounds__(128) inbox_star_kernel(const int* pred, int n,
       search = true;
     }
   }
-  // One atomic a warp, and the warp's sites listed in lane order: neighbouring sites stay
-  // together for the walks.
+  // The block's searching sites listed in thread order: neighbouring sites stay together for
+  // the walks.
   const unsigned listed = __ballot_sync(0xffffffffu, search);
-  if (!listed) return;
-  const unsigned lane = threadIdx.x & 31, leader = __ffs(listed) - 1;
-  unsigned base = 0;
-  if (lane == leader) base = atomicAdd(search_count, static_cast<unsigned>(__popc(listed)));
-  base = __shfl_sync(0xffffffffu, base, leader);
-  if (search) search_list[base + __popc(listed & ((1u << lane) - 1u))] = i;
+  const unsigned lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
+  if (lane == 0) warp_base[warp] = static_cast<unsigned>(__popc(listed));
+  __syncthreads();
+  if (threadIdx.x == 0) {
+    unsigned total = 0;
+    for (int k = 0; k < kInboxThreads / 32; ++k) {
+      const unsigned count = warp_base[k];
+      warp_base[k] = total;
+      total += count;
+    }
+    block_base = total ? atomicAdd(search_count, total) : 0u;
+  }
+  __syncthreads();
+  if (search) search_list[block_base + warp_base[warp] + __popc(listed & ((1u << lane) - 1u))] = i;
 }
 
 /// The second pass: the sites a first pass listed (*count of them), with the full budget, each
@@ -486,11 +498,10 @@ void with_star_blocks(int blocks, F&& f) {
 }
 /// Device memory per site of the star layout: points twice, cell keys and ids twice, rank,
 /// predecessor, owned, offset, retry, undecided; the star row; triangles and neighbours (about 2
-/// a site); an inbox (StarInbox) and a place in the second phase's search list for every other
-/// site.
+/// a site); an inbox (StarInbox) for every other site.
 std::size_t per_site_bytes() {
   return 2 * sizeof(double2) + 2 * 2 * sizeof(std::uint32_t) + 9 * sizeof(int) + kStar * sizeof(int) +
-         2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 2) * sizeof(int) / 2 + 64;
+         2 * 2 * 3 * sizeof(int) + sizeof(int) + (kInboxWords + 1) * sizeof(int) / 2 + 64;
 }
 int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>((n + threads - 1) / threads); }
 
@@ -697,7 +708,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // others (inbox_star_kernel); EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
     const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
-    DeviceArray<int> d_search(inboxes, stream);
+    // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
+    // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
+    // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
+    // calls 1-2: the pool's placement of the bucketing's arrays, whatever the kernels).
+    int* const d_search = d_offset.get() + 1;
     auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
       constexpr int first_b = decltype(first_blocks)::value;
       constexpr int later_b = decltype(later_blocks)::value;
@@ -740,13 +755,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
           if (sites == 0) continue;
           if (phase > 0 && inbox_first) {
-            inbox_star_kernel<<<blocks_for(sites, 128), 128, 0, stream>>>(
+            inbox_star_kernel<<<blocks_for(sites, kInboxThreads), kInboxThreads, 0, stream>>>(
                 d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
-                d_search.get(), d_counters.get() + 12, ends_first);
+                d_search, d_counters.get() + 12, ends_first);
             timeline.mark("phase 1 from inboxes", stream);
             later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                d_search.get(), d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
+                d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
           } else {
             (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
