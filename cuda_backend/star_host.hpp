@@ -137,7 +137,7 @@ class HostStarLayout {
         };
         if (search == StarSearch::rings) {
           w = walk_star_by<StarSearch::rings>(grid_, pred_.data(), s, row, budget);
-        } else if (inbox.reading && walk_from_inbox(pred_.data(), s, row, inbox, &w)) {
+        } else if (int owned = 0; inbox.reading && walk_from_inbox(pred_.data(), s, row, inbox, &w, &owned)) {
           // As the second phase's inbox_star_kernel: no search. With verify_inbox_walks, the
           // full walk must make the same star.
           ++totals.from_inbox;
@@ -148,6 +148,7 @@ class HostStarLayout {
             const std::uint32_t info = star_info(w);
             bool same = f.ok && star_info(f) == info;
             for (int t = 0; same && t < star_degree(info); ++t) same = star_at(full.data(), info, 0, t) == star_at(row, info, 0, t);
+            same = same && owned == owned_triangles(star_.data(), info, s);
             totals.inbox_walk_mismatches += !same;
           }
         } else if (inbox.reading)

@@ -185,10 +185,10 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   if (i < n && !edge.holds(i)) {
     int* row = star + static_cast<std::size_t>(i) * kStar;
     StarWalk w;
-    if (walk_from_inbox(pred, i, row, inbox, &w)) {
-      const std::uint32_t inf = star_info(w);
-      info[i] = inf;
-      owned[i] = owned_triangles(star, inf, i);
+    int mine = 0;
+    if (walk_from_inbox(pred, i, row, inbox, &w, &mine)) {
+      info[i] = star_info(w);
+      owned[i] = mine;
     } else {
       search = true;
     }

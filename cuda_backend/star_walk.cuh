@@ -124,7 +124,11 @@ struct InboxPosts {
 /// step the inbox does not hold (or anything the full walk would defer at): the site then needs
 /// the full walk, which makes the same steps before its first search. Both agree on every star
 /// the inbox holds whole (tests/unit/test_cuda_star_walk.cpp compares them on the CPU).
-EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const StarInbox& inbox, StarWalk* w) {
+///
+/// *owned: the star's triangles that i owns (owned_triangles), counted step by step, each step's
+/// triangle being (i, v, c) in some order, so that the row is not read back.
+EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const StarInbox& inbox, StarWalk* w,
+                                    int* owned) {
   const InboxPosts posts(inbox, i);
   if (posts.count == 0) return false;
   const int v0 = posts.u[0];  // StarInbox::first_neighbour
@@ -132,6 +136,7 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
   int ccw = 1, cw = 0;
   bool clockwise = false, closed = false;
   unsigned steps = 0;
+  int mine = 0;
   int v = v0;
   row[0] = v0;
   for (;;) {
@@ -143,6 +148,7 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
     const int c = posts.apex(v, !clockwise);
     if (c < 0) return false;
     ++steps;
+    mine += i < v && i < c;
     if (c == v0) {
       if (clockwise) return false;  // the full walk defers here (no apex)
       closed = true;
@@ -163,6 +169,7 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
   w->predicates = 0;
   w->work = steps;
   w->handed_on = false;
+  *owned = mine;
   return true;
 }
 
