@@ -103,17 +103,25 @@ struct InboxPosts {
     }
   }
 
-  /// As StarInbox::apex: the first post that names the step wins.
-  EXPANSE_DEVICE_FORCE int apex(int v, bool counter_clockwise) const {
-    int found = -1;
+  /// As StarInbox::apex: the first post that names the step wins (unused slots hold -1, which
+  /// names nothing). *then: the step after that one where the same post names it too (a post
+  /// (b, u, a) found at b gives u and then a), else -1; half the look-ups.
+  EXPANSE_DEVICE_FORCE int apex(int v, bool counter_clockwise, int* then) const {
+    int found = -1, next = -1;
 #if defined(__CUDACC__)
 #pragma unroll
 #endif
     for (int k = kInboxTriples - 1; k >= 0; --k) {
       const int before = counter_clockwise ? b[k] : a[k], after = counter_clockwise ? a[k] : b[k];
-      const int step = (u[k] == v && after >= 0) ? after : before == v ? u[k] : -1;
-      if (k < count && step >= 0) found = step;
+      if (u[k] == v && after >= 0) {
+        found = after;
+        next = -1;
+      } else if (before == v) {
+        found = u[k];
+        next = after;
+      }
     }
+    *then = next;
     return found;
   }
 };
@@ -138,14 +146,18 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
   unsigned steps = 0;
   int mine = 0;
   int v = v0;
+  int then = -1;  // the step after v, where the last look-up's post named it
   row[0] = v0;
   for (;;) {
     if (!clockwise && pred_s == v) {
       clockwise = true;  // s->v is an outer edge: the rest lies clockwise from v0
       v = v0;
+      then = -1;
     }
     if (clockwise && pred[v] == i) break;  // v->s is an outer edge: the star is complete
-    const int c = posts.apex(v, !clockwise);
+    int c = then;
+    if (c < 0) c = posts.apex(v, !clockwise, &then);
+    else then = -1;
     if (c < 0) return false;
     ++steps;
     mine += i < v && i < c;
