@@ -282,22 +282,28 @@ int main(int argc, char** argv) {
 
   // Two phases (StarInbox; the default above 2^18 sites): the odd sites' walks start from and
   // step through what the even sites posted, alone and with the first pass's hand-offs (a first
-  // budget of 8 sends nearly every site to the warps).
+  // budget of 8 sends nearly every site to the warps); the stars that inboxes hold whole recorded
+  // first and the rest walked from a list (inbox_star_kernel), or every odd site walked.
   setenv("EXPANSE_CUDA_PHASES", "2", 1);
   for (const char* first : {"", "8"}) {
-    if (*first) setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
-    const std::string label = std::string("two phases") + (*first ? ", first-pass budget 8" : "") + ": ";
-    grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
-    grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
-    grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
-    if (small) continue;
-    for (const char* dist : {"clusters", "duplicates", "near_collinear", "thin_circle", "rotated_grid", "offset"})
-      grow_case(*backend, label + dist, generate_points(dist, 1500, 7), per_site, true, false);
-    grow_case(*backend, label + "grid 256", square_grid(256), per_site, false, true);
-    grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
-    grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
+    for (const char* inbox_first : {"1", "0"}) {
+      if (*first) setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
+      setenv("EXPANSE_CUDA_INBOX_FIRST", inbox_first, 1);
+      const std::string label = std::string("two phases") + (*first ? ", first-pass budget 8" : "") +
+                                (*inbox_first == '1' ? ", inboxes first" : ", every odd site walked") + ": ";
+      grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
+      grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+      grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
+      if (small) continue;
+      for (const char* dist : {"clusters", "duplicates", "near_collinear", "thin_circle", "rotated_grid", "offset"})
+        grow_case(*backend, label + dist, generate_points(dist, 1500, 7), per_site, true, false);
+      grow_case(*backend, label + "grid 256", square_grid(256), per_site, false, true);
+      grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
+      grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
+    }
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
+  unsetenv("EXPANSE_CUDA_INBOX_FIRST");
   unsetenv("EXPANSE_CUDA_PHASES");
 
   // The work budget defers runaway sites, and its counters read back (they once read garbage).
