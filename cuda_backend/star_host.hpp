@@ -137,9 +137,10 @@ class HostStarLayout {
         };
         if (search == StarSearch::rings) {
           w = walk_star_by<StarSearch::rings>(grid_, pred_.data(), s, row, budget);
-        } else if (int owned = 0; inbox.reading && walk_from_inbox(pred_.data(), s, row, inbox, &w, &owned)) {
-          // As the second phase's inbox_star_kernel: no search. With verify_inbox_walks, the
-          // full walk must make the same star.
+        } else if (int owned = 0; inbox.reading && walk_from_inbox(pred_.data(), s, nullptr, inbox, &w, &owned)) {
+          // As the second phase's inbox_star_kernel: no search, the row written by a second
+          // walk. With verify_inbox_walks, the full walk must make the same star.
+          walk_from_inbox(pred_.data(), s, row, inbox, &w, &owned);
           ++totals.from_inbox;
           if (verify_inbox_walks_) {
             std::array<int, kStar> full{};

@@ -183,10 +183,12 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   const int i = (b * kInboxThreads + static_cast<int>(threadIdx.x)) * 2 + 1;
   bool search = false;
   if (i < n && !edge.holds(i)) {
-    int* row = star + static_cast<std::size_t>(i) * kStar;
+    // Walked twice where the inbox holds the star, the row written the second time only: half
+    // the odd sites must search, and their rows are written again by the full walk.
     StarWalk w;
     int mine = 0;
-    if (walk_from_inbox(pred, i, row, inbox, &w, &mine)) {
+    if (walk_from_inbox(pred, i, nullptr, inbox, &w, &mine)) {
+      walk_from_inbox(pred, i, star + static_cast<std::size_t>(i) * kStar, inbox, &w, &mine);
       info[i] = star_info(w);
       owned[i] = mine;
     } else {

@@ -135,7 +135,10 @@ struct InboxPosts {
 /// the inbox holds whole (tests/unit/test_cuda_star_walk.cpp compares them on the CPU).
 ///
 /// *owned: the star's triangles that i owns (owned_triangles), counted step by step, each step's
-/// triangle being (i, v, c) in some order, so that the row is not read back.
+/// triangle being (i, v, c) in some order, so that the row is not read back. With row null
+/// nothing is written: the recording kernel walks once to learn whether the inbox holds the
+/// whole star, and writes the row only then (the sites that must search have their rows written
+/// by the full walk).
 EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const StarInbox& inbox, StarWalk* w,
                                     int* owned) {
   const InboxPosts posts(inbox, i);
@@ -148,7 +151,7 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
   int mine = 0;
   int v = v0;
   int then = -1;  // the step after v, where the last look-up's post named it
-  row[0] = v0;
+  if (row) row[0] = v0;
   for (;;) {
     if (!clockwise && pred_s == v) {
       clockwise = true;  // s->v is an outer edge: the rest lies clockwise from v0
@@ -168,10 +171,8 @@ EXPANSE_DEVICE bool walk_from_inbox(const int* pred, int i, int* row, const Star
       break;
     }
     if (ccw + cw >= kStar) return false;  // the full walk defers here (full row)
-    if (clockwise)
-      row[kStar - 1 - cw++] = c;
-    else
-      row[ccw++] = c;
+    const int at = clockwise ? kStar - 1 - cw++ : ccw++;
+    if (row) row[at] = c;
     v = c;
   }
   w->ok = true;
