@@ -707,17 +707,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
     // The second phase records the stars that its sites' inboxes hold whole before it walks the
-    // others (inbox_star_kernel), on quantile cells and on uniform cells above 2^22 sites, small
-    // lattices aside. H100, GPU-only, two rounds against every odd site walked (session 22 call 5):
-    // 4096^2 uniform 37.63 -> 36.91 ms, gaussian 48.11 -> 47.16, kuzmin 69.5 -> 68.4, kuzmin 2048^2
-    // 22.34 -> 22.00; but uniform 2048^2 15.28 -> 15.53 and the 4096^2 lattice 22.25 -> 22.68: the
-    // recording kernel costs 1.66 ms at 4096^2 whatever the phase saves (its 1.5 GB of traffic:
-    // every odd site's inbox read, strided writes of stars and counts). EXPANSE_CUDA_INBOX_FIRST=1
-    // or =0 forces it on or off.
+    // others (inbox_star_kernel). H100, GPU-only, two rounds against every odd site walked
+    // (session 22 call 8): 4096^2 uniform 37.66 -> 36.27 ms, gaussian 48.14 -> 46.52, kuzmin
+    // 69.44 -> 67.13; at 1024^2 and 2048^2 (uniform, lattice) and on the 4096^2 lattice within
+    // noise either way (call 9). EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
-    const bool inbox_first =
-        phases == 2 && (inbox_first_env ? std::strcmp(inbox_first_env, "0") != 0
-                                        : !exact_lattice && (!buckets.uniform() || n > (std::size_t{1} << 22)));
+    const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
     // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
     // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
