@@ -716,7 +716,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
     // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
     // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
-    // calls 1-2: the pool's placement of the bucketing's arrays, whatever the kernels).
+    // calls 1-2, whatever the kernels; why was not found, the pool's placement of the bucketing's
+    // arrays most likely).
     int* const d_search = d_offset.get() + 1;
     auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
       constexpr int first_b = decltype(first_blocks)::value;
