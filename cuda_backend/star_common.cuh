@@ -79,7 +79,10 @@ struct StarInbox {
   /// A neighbour of odd site i from its inbox, or -1.
   EXPANSE_DEVICE_FORCE int first_neighbour(int i) const { return posted(i) == 0 ? -1 : row(i)[1]; }
   /// The apex of i->v (counter_clockwise: the neighbour just after v around i) or of v->i (the
-  /// one just before), from odd site i's inbox, or -1.
+  /// one just before), from odd site i's inbox, or -1. InboxPosts::apex (star_walk.cuh) applies
+  /// the same rule to posts held in registers, for the second phase's recording kernel; the full
+  /// walk reads the row here, a post at a time, since 15 more live registers would cost its scan
+  /// loop more. The CPU test compares the two walks' stars.
   EXPANSE_DEVICE_FORCE int apex(int i, int v, bool counter_clockwise) const {
     const int* r = row(i);
     const int count = posted(i);
