@@ -232,45 +232,71 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
                                                         WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
-/// The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
-/// then a thread per triangle: one thread a site, linking each of its triangles by searching the
-/// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
-/// ncu (H100, session 14 call 2), its loops as uneven as the stars.
-///
+/// The emit (scan's offsets -> triangles and neighbours) in two kernels, each a block of
+/// kEmitSites consecutive sites: the block's triangles are one contiguous range of the output
+/// (offset[first] to offset[last]), which the block stages in shared memory, kEmitRoom at a time.
+/// One thread a site, linking each of its triangles by searching the stars around it, ran at 5.7
+/// of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under ncu (H100, session 14 call 2),
+/// its loops as uneven as the stars. Staged, the triangles leave in whole sectors (written by
+/// their sites, a thread's ~2 triangles at a time, each 4-byte store was a sector of its own: 3.1
+/// GB through L2 for 400 MB of triangles, 1.67 ms under ncu, session 23 call 1), and the links
+/// are made a thread a triangle without reading the triangles back to find their owners.
+constexpr int kEmitSites = 128;
+constexpr int kEmitRoom = 1024;  // ~4 times what a block's sites own at ~2 triangles each
+
+/// Calls stage(index, t) for each triangle of site i's star that i owns (`mask`, bit t: the
+/// triangle (i, star t, star t + 1)) whose output index (from `first_index` on, in star order)
+/// lies in [chunk, chunk_end).
+template <typename Stage>
+__device__ __forceinline__ void stage_owned(std::uint32_t mask, int first_index, int chunk, int chunk_end,
+                                            Stage stage) {
+  int index = first_index;
+  for (std::uint32_t m = mask; m != 0u && index < chunk_end; m &= m - 1u, ++index)
+    if (index >= chunk) stage(index, __ffs(static_cast<int>(m)) - 1);
+}
+
 /// emit_triangles_kernel: site i's owned triangles (it is their smallest vertex), in site ids, at
 /// offset[i] on; owned[i] the bitmask of its star's triangles it owns (bit t: the triangle (i,
 /// star t, star t + 1)), so that any triangle's output index is its owner's offset plus the
 /// owned triangles before it in the owner's star. Past `capacity` (more triangles than a
 /// triangulation has: a broken walk, which the host then reports) no triangle is written.
-__global__ void __launch_bounds__(128) emit_triangles_kernel(const int* star, const std::uint32_t* info,
-                                                             const int* offset, const int* sorted_ids, int n,
-                                                             int capacity, int* triangles, std::uint32_t* owned) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  const std::uint32_t inf = info[i];
-  if (star_deferred(inf)) return;
-  int out = offset[i];
-  const bool write = out != offset[i + 1] && offset[i + 1] <= capacity;
-  const int deg = star_degree(inf);
-  const int tris = star_closed(inf) ? deg : deg - 1;
-  const int id = sorted_ids[i];
-  std::uint32_t mask = 0;
-  int a = star_at(star, inf, i, 0);
-  for (int t = 0; t < tris; ++t) {
-    const int b = star_at(star, inf, i, t + 1);
-    if (i < a && i < b) {
-      mask |= 1u << t;
-      if (write) {
-        int* tri = triangles + 3 * static_cast<std::size_t>(out);
-        tri[0] = id;
-        tri[1] = sorted_ids[a];
-        tri[2] = sorted_ids[b];
+__global__ void __launch_bounds__(kEmitSites) emit_triangles_kernel(const int* star, const std::uint32_t* info,
+                                                                    const int* offset, const int* sorted_ids, int n,
+                                                                    int capacity, int* triangles,
+                                                                    std::uint32_t* owned) {
+  __shared__ int staged[3 * kEmitRoom];
+  const int first = blockIdx.x * kEmitSites, last = min(first + kEmitSites, n);
+  const int i = first + static_cast<int>(threadIdx.x);
+  std::uint32_t inf = 0, mask = 0;
+  if (i < n) {
+    inf = info[i];
+    if (!star_deferred(inf)) {
+      const int tris = star_closed(inf) ? star_degree(inf) : star_degree(inf) - 1;
+      int a = star_at(star, inf, i, 0);
+      for (int t = 0; t < tris; ++t) {
+        const int b = star_at(star, inf, i, t + 1);
+        mask |= static_cast<std::uint32_t>(i < a && i < b) << t;
+        a = b;
       }
-      ++out;
     }
-    a = b;
+    owned[i] = mask;
   }
-  owned[i] = mask;
+  const int first_index = i < n ? offset[i] : 0;
+  const int id = i < n ? sorted_ids[i] : -1;
+  const int end = min(offset[last], capacity);
+  for (int chunk = offset[first]; chunk < end; chunk += kEmitRoom) {  // the same rounds for the whole block
+    const int chunk_end = min(chunk + kEmitRoom, end);
+    stage_owned(mask, first_index, chunk, chunk_end, [&](int index, int t) {
+      int* tri = staged + 3 * (index - chunk);
+      tri[0] = id;
+      tri[1] = sorted_ids[star_at(star, inf, i, t)];
+      tri[2] = sorted_ids[star_at(star, inf, i, t + 1)];
+    });
+    __syncthreads();
+    int* out = triangles + 3 * static_cast<std::size_t>(chunk);
+    for (int k = static_cast<int>(threadIdx.x); k < 3 * (chunk_end - chunk); k += kEmitSites) out[k] = staged[k];
+    __syncthreads();
+  }
 }
 
 /// Output index of triangle q of non-deferred site o's star (the triangle (o, star q, star q + 1)),
@@ -299,22 +325,15 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
   return owned_triangle_index(offset, owned, o, q);
 }
 
-/// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
-/// lies across the edge opposite vertex j. Its owner is its first vertex (rank: site id -> local
-/// id), and its place in the owner's star the owned bit of its rank among the owner's triangles.
-/// A neighbour is also a triangle of a star already at hand (the owner's, on either side of k;
-/// the one found across the edge opposite the owner): where that star's site owns it, its index
-/// is that site's owned bits, with no search of its owner's star (`known_places`; false searches
-/// as before, for comparisons).
-__global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
-                                                             const int* offset, const std::uint32_t* owned,
-                                                             const int* triangles, const int* rank, int n,
-                                                             int capacity, int* neighbors, bool known_places) {
-  const int k = blockIdx.x * blockDim.x + threadIdx.x;
-  const int total = offset[n];
-  if (k >= total || total > capacity) return;
-  const int i = rank[triangles[3 * static_cast<std::size_t>(k)]];
-  const int t = static_cast<int>(__fns(owned[i], 0, k - offset[i] + 1));
+/// The three neighbours of triangle k, site i's triangle t (the triangle (i, star t, star t +
+/// 1)), -1 where there is none or its owner deferred: neighbour j lies across the edge opposite
+/// vertex j. A neighbour is also a triangle of a star already at hand (i's, on either side of
+/// t; a's, across the edge opposite i): where that star's site owns it, its index is that
+/// site's owned bits, with no search of its owner's star (`known_places`; false searches as
+/// before, for comparisons).
+__device__ __forceinline__ void link_triangle(const int* star, const std::uint32_t* info, const int* offset,
+                                              const std::uint32_t* owned, int i, int t, int k, int* neighbors,
+                                              bool known_places) {
   int* nb = neighbors + 3 * static_cast<std::size_t>(k);
   const std::uint32_t inf = info[i];
   const int deg = star_degree(inf);
@@ -351,6 +370,33 @@ __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, co
   nb[0] = across_ab;
   nb[1] = across_bi;
   nb[2] = across_ia;
+}
+
+/// The neighbours of the triangles of a block's sites, a thread a triangle: the sites stage
+/// which of their star's triangles each output index is (site in the block, position t), and the
+/// block's threads then link them in output order.
+__global__ void __launch_bounds__(kEmitSites) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
+                                                                    const int* offset, const std::uint32_t* owned,
+                                                                    int n, int capacity, int* neighbors,
+                                                                    bool known_places) {
+  __shared__ int staged[kEmitRoom];  // site in the block << 8 | t
+  if (offset[n] > capacity) return;  // the whole grid returns: the host reports the broken walk
+  const int first = blockIdx.x * kEmitSites, last = min(first + kEmitSites, n);
+  const int i = first + static_cast<int>(threadIdx.x);
+  const std::uint32_t mask = i < n ? owned[i] : 0u;
+  const int first_index = i < n ? offset[i] : 0;
+  const int end = offset[last];
+  for (int chunk = offset[first]; chunk < end; chunk += kEmitRoom) {
+    const int chunk_end = min(chunk + kEmitRoom, end);
+    stage_owned(mask, first_index, chunk, chunk_end,
+                [&](int index, int t) { staged[index - chunk] = static_cast<int>(threadIdx.x) << 8 | t; });
+    __syncthreads();
+    for (int j = static_cast<int>(threadIdx.x); j < chunk_end - chunk; j += kEmitSites) {
+      const int s = staged[j];
+      link_triangle(star, info, offset, owned, first + (s >> 8), s & 255, chunk + j, neighbors, known_places);
+    }
+    __syncthreads();
+  }
 }
 
 /// The host audit's checks (seam/adjacency_audit.cpp) where the adjacency is made, before it
@@ -844,13 +890,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   timer.begin("emit");
   // The owned counts are scanned: their array takes each site's owned bitmask now.
   std::uint32_t* const d_owned_mask = reinterpret_cast<std::uint32_t*>(d_owned.get());
-  emit_triangles_kernel<<<blocks_for(n, 128), 128, 0, stream>>>(d_star.get(), d_info.get(), d_offset.get(),
-                                                                d_sorted_ids, static_cast<int>(n),
-                                                                static_cast<int>(full), d_triangles.get(), d_owned_mask);
+  emit_triangles_kernel<<<blocks_for(n, kEmitSites), kEmitSites, 0, stream>>>(
+      d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids, static_cast<int>(n), static_cast<int>(full),
+      d_triangles.get(), d_owned_mask);
   if (with_neighbors && full > 0)
-    emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(
-        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, d_triangles.get(), d_rank.get(),
-        static_cast<int>(n), static_cast<int>(full), d_neighbors.get(), known_places);
+    emit_neighbors_kernel<<<blocks_for(n, kEmitSites), kEmitSites, 0, stream>>>(
+        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, static_cast<int>(n), static_cast<int>(full),
+        d_neighbors.get(), known_places);
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
