@@ -7,7 +7,7 @@
 #
 #   bash bench/device/bundle.sh [BUILD_DIR]     (default: build-device)
 #
-# EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda and expanse-bench (a build of the commit a
+# EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda and expanse-bench if there (a build of the commit a
 # change is measured against, same libraries) as baseline/: run-on-device.sh's `compare` step
 # runs both builds alternately in one call.
 set -euo pipefail
@@ -37,7 +37,10 @@ if [[ -f $layer && -f $manifest ]]; then
 fi
 if [[ -n ${EXPANSE_BASELINE:-} ]]; then
   mkdir -p .devrun/baseline
-  cp "$EXPANSE_BASELINE/expanse_bench_cuda" "$EXPANSE_BASELINE/expanse-bench" .devrun/baseline/
+  cp "$EXPANSE_BASELINE/expanse_bench_cuda" .devrun/baseline/
+  # expanse-bench only where the baseline has it: both together can push the bundle past what
+  # the device tool carries.
+  if [[ -f $EXPANSE_BASELINE/expanse-bench ]]; then cp "$EXPANSE_BASELINE/expanse-bench" .devrun/baseline/; fi
   cp "$EXPANSE_BASELINE/COMMIT" .devrun/baseline/ 2>/dev/null || echo "unknown" >.devrun/baseline/COMMIT
 fi
 git describe --always --dirty --abbrev=12 >.devrun/COMMIT
