@@ -232,28 +232,66 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
                                                         WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
-/// The emit (scan's offsets -> triangles and neighbours) in two kernels, each a block of
-/// kEmitSites consecutive sites: the block's triangles are one contiguous range of the output
-/// (offset[first] to offset[last]), which the block stages in shared memory, kEmitRoom at a time.
-/// One thread a site, linking each of its triangles by searching the stars around it, ran at 5.7
-/// of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under ncu (H100, session 14 call 2),
-/// its loops as uneven as the stars. Staged, the triangles leave in whole sectors (written by
-/// their sites, a thread's ~2 triangles at a time, each 4-byte store was a sector of its own: 3.1
-/// GB through L2 for 400 MB of triangles, 1.67 ms under ncu, session 23 call 1), and the links
-/// are made a thread a triangle without reading the triangles back to find their owners.
+/// The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
+/// then a thread per triangle: one thread a site, linking each of its triangles by searching the
+/// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
+/// ncu (H100, session 14 call 2), its loops as uneven as the stars.
+///
+/// Both read stars through StarView: a closed star of at most eight neighbours (nearly every
+/// interior site's) is its row's first sector, loaded in two 16-byte words; read an entry at a
+/// time, each entry was a sector of its own across a warp (ncu, 4096^2 uniform, session 23
+/// calls 1-2: 5.3 of each sector's 32 bytes used, 238 M sectors for the triangles' kernel).
+struct StarView {
+  const int* star;
+  std::uint32_t inf;
+  int o;
+  bool head;  ///< the whole star is in e[] (closed, one to eight neighbours)
+  int e[8];
+
+  __device__ __forceinline__ StarView(const int* star_rows, std::uint32_t info, int site)
+      : star(star_rows),
+        inf(info),
+        o(site),
+        head(star_start(info) == 0 && star_degree(info) >= 1 && star_degree(info) <= 8) {
+    if (head) {
+      const int4* row = reinterpret_cast<const int4*>(star + static_cast<std::size_t>(o) * kStar);
+      const int4 x = row[0], y = row[1];
+      e[0] = x.x, e[1] = x.y, e[2] = x.z, e[3] = x.w, e[4] = y.x, e[5] = y.y, e[6] = y.z, e[7] = y.w;
+    }
+  }
+  __device__ __forceinline__ int degree() const { return star_degree(inf); }
+  __device__ __forceinline__ bool closed() const { return star_closed(inf); }
+  __device__ __forceinline__ int triangles() const { return closed() ? degree() : degree() - 1; }
+  /// Entry t, t in [-1, degree + 1], wrapping as star_at (selects, not an indexed array: an
+  /// index unknown at compile time would put e[] in local memory).
+  __device__ __forceinline__ int at(int t) const {
+    if (!head) return star_at(star, inf, o, t);
+    const int deg = degree();
+    t = t < 0 ? t + deg : t;
+    t = t >= deg ? t - deg : t;
+    t = t >= deg ? t - deg : t;
+    int v = e[0];
+#pragma unroll
+    for (int k = 1; k < 8; ++k) v = t == k ? e[k] : v;
+    return v;
+  }
+  __device__ __forceinline__ int find(int u) const {
+    if (!head) return star_find(star, inf, o, u);
+    const int deg = degree();
+    int p = -1;
+#pragma unroll
+    for (int k = 7; k >= 0; --k) p = k < deg && e[k] == u ? k : p;
+    return p;
+  }
+};
+
+/// Blocks of kEmitSites sites for the triangles' kernel: a block's triangles are one contiguous
+/// range of the output (offset[first] to offset[last]), staged in shared memory kEmitRoom at a
+/// time and written in whole sectors (written by their sites, a thread's ~2 triangles at a time,
+/// each 4-byte store was a sector of its own: 97 M sectors through L2 for 400 MB of triangles,
+/// session 23 call 1; 17 M staged, call 2).
 constexpr int kEmitSites = 128;
 constexpr int kEmitRoom = 1024;  // ~4 times what a block's sites own at ~2 triangles each
-
-/// Calls stage(index, t) for each triangle of site i's star that i owns (`mask`, bit t: the
-/// triangle (i, star t, star t + 1)) whose output index (from `first_index` on, in star order)
-/// lies in [chunk, chunk_end).
-template <typename Stage>
-__device__ __forceinline__ void stage_owned(std::uint32_t mask, int first_index, int chunk, int chunk_end,
-                                            Stage stage) {
-  int index = first_index;
-  for (std::uint32_t m = mask; m != 0u && index < chunk_end; m &= m - 1u, ++index)
-    if (index >= chunk) stage(index, __ffs(static_cast<int>(m)) - 1);
-}
 
 /// emit_triangles_kernel: site i's owned triangles (it is their smallest vertex), in site ids, at
 /// offset[i] on; owned[i] the bitmask of its star's triangles it owns (bit t: the triangle (i,
@@ -267,31 +305,42 @@ __global__ void __launch_bounds__(kEmitSites) emit_triangles_kernel(const int* s
   __shared__ int staged[3 * kEmitRoom];
   const int first = blockIdx.x * kEmitSites, last = min(first + kEmitSites, n);
   const int i = first + static_cast<int>(threadIdx.x);
-  std::uint32_t inf = 0, mask = 0;
-  if (i < n) {
-    inf = info[i];
-    if (!star_deferred(inf)) {
-      const int tris = star_closed(inf) ? star_degree(inf) : star_degree(inf) - 1;
-      int a = star_at(star, inf, i, 0);
+  const std::uint32_t inf = i < n ? info[i] : kDeferredBit;
+  const bool live = !star_deferred(inf);
+  const StarView view(star, inf, i);  // a deferred site's (degree 0) loads and reads nothing
+  std::uint32_t mask = 0;
+  if (live) {
+    const int tris = view.triangles();
+    if (view.head) {
+#pragma unroll
+      for (int t = 0; t < 8; ++t) {
+        const int a = view.e[t], b = t + 1 < view.degree() ? view.e[(t + 1) & 7] : view.e[0];
+        mask |= static_cast<std::uint32_t>(t < tris && i < a && i < b) << t;
+      }
+    } else {
+      int a = view.at(0);
       for (int t = 0; t < tris; ++t) {
-        const int b = star_at(star, inf, i, t + 1);
+        const int b = view.at(t + 1);
         mask |= static_cast<std::uint32_t>(i < a && i < b) << t;
         a = b;
       }
     }
-    owned[i] = mask;
   }
+  if (i < n) owned[i] = mask;
   const int first_index = i < n ? offset[i] : 0;
   const int id = i < n ? sorted_ids[i] : -1;
   const int end = min(offset[last], capacity);
   for (int chunk = offset[first]; chunk < end; chunk += kEmitRoom) {  // the same rounds for the whole block
     const int chunk_end = min(chunk + kEmitRoom, end);
-    stage_owned(mask, first_index, chunk, chunk_end, [&](int index, int t) {
+    int index = first_index;
+    for (std::uint32_t m = mask; m != 0u && index < chunk_end; m &= m - 1u, ++index) {
+      if (index < chunk) continue;
+      const int t = __ffs(static_cast<int>(m)) - 1;
       int* tri = staged + 3 * (index - chunk);
       tri[0] = id;
-      tri[1] = sorted_ids[star_at(star, inf, i, t)];
-      tri[2] = sorted_ids[star_at(star, inf, i, t + 1)];
-    });
+      tri[1] = sorted_ids[view.at(t)];
+      tri[2] = sorted_ids[view.at(t + 1)];
+    }
     __syncthreads();
     int* out = triangles + 3 * static_cast<std::size_t>(chunk);
     for (int k = static_cast<int>(threadIdx.x); k < 3 * (chunk_end - chunk); k += kEmitSites) out[k] = staged[k];
@@ -319,40 +368,50 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
   }
   const std::uint32_t inf = info[o];
   if (star_deferred(inf)) return -1;
-  const int q = star_find(star, inf, o, u);
-  const int tris = star_closed(inf) ? star_degree(inf) : star_degree(inf) - 1;
-  if (q < 0 || q >= tris || star_at(star, inf, o, q + 1) != w) return -1;
+  const StarView view(star, inf, o);
+  const int q = view.find(u);
+  if (q < 0 || q >= view.triangles() || view.at(q + 1) != w) return -1;
   return owned_triangle_index(offset, owned, o, q);
 }
 
-/// The three neighbours of triangle k, site i's triangle t (the triangle (i, star t, star t +
-/// 1)), -1 where there is none or its owner deferred: neighbour j lies across the edge opposite
-/// vertex j. A neighbour is also a triangle of a star already at hand (i's, on either side of
-/// t; a's, across the edge opposite i): where that star's site owns it, its index is that
-/// site's owned bits, with no search of its owner's star (`known_places`; false searches as
-/// before, for comparisons).
-__device__ __forceinline__ void link_triangle(const int* star, const std::uint32_t* info, const int* offset,
-                                              const std::uint32_t* owned, int i, int t, int k, int* neighbors,
-                                              bool known_places) {
+/// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
+/// lies across the edge opposite vertex j. Its owner is its first vertex (rank: site id -> local
+/// id), and its place in the owner's star the owned bit of its rank among the owner's triangles.
+/// A neighbour is also a triangle of a star already at hand (the owner's, on either side of k;
+/// the one found across the edge opposite the owner): where that star's site owns it, its index
+/// is that site's owned bits, with no search of its owner's star (`known_places`; false searches
+/// as before, for comparisons). Staging the triangles' places by block instead (no read-back of
+/// the triangles, no rank look-up) was slower: 1.83 -> 2.23 ms under ncu (session 23 call 2).
+__global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
+                                                             const int* offset, const std::uint32_t* owned,
+                                                             const int* triangles, const int* rank, int n,
+                                                             int capacity, int* neighbors, bool known_places) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  const int total = offset[n];
+  if (k >= total || total > capacity) return;
+  const int i = rank[triangles[3 * static_cast<std::size_t>(k)]];
+  const int t = static_cast<int>(__fns(owned[i], 0, k - offset[i] + 1));
   int* nb = neighbors + 3 * static_cast<std::size_t>(k);
-  const std::uint32_t inf = info[i];
-  const int deg = star_degree(inf);
-  const bool closed = star_closed(inf);
-  const int a = star_at(star, inf, i, t), b = star_at(star, inf, i, t + 1);
+  const StarView own(star, info[i], i);
+  const int deg = own.degree();
+  const bool closed = own.closed();
+  const int a = own.at(t), b = own.at(t + 1);
   int across_ab = -1;  // opposite i: the triangle (b, a, r)
   int r = -1;
   const std::uint32_t ia = info[a], ib = info[b];
   if (!star_deferred(ia)) {
-    const int p = star_find(star, ia, a, b);
-    if (p >= 0 && (p > 0 || star_closed(ia))) {
-      const int q = p > 0 ? p - 1 : star_degree(ia) - 1;  // (a, r, b) is a's triangle q
-      r = star_at(star, ia, a, q);
+    const StarView at_a(star, ia, a);
+    const int p = at_a.find(b);
+    if (p >= 0 && (p > 0 || at_a.closed())) {
+      const int q = p > 0 ? p - 1 : at_a.degree() - 1;  // (a, r, b) is a's triangle q
+      r = at_a.at(q);
       if (known_places) across_ab = owned_triangle_index(offset, owned, a, q);
     }
   } else if (!star_deferred(ib)) {
-    const int q = star_find(star, ib, b, a);  // (b, a, r) is b's triangle q
-    if (q >= 0 && (q < star_degree(ib) - 1 || star_closed(ib))) {
-      r = star_at(star, ib, b, q + 1);
+    const StarView at_b(star, ib, b);
+    const int q = at_b.find(a);  // (b, a, r) is b's triangle q
+    if (q >= 0 && (q < at_b.degree() - 1 || at_b.closed())) {
+      r = at_b.at(q + 1);
       if (known_places) across_ab = owned_triangle_index(offset, owned, b, q);
     }
   }
@@ -360,43 +419,16 @@ __device__ __forceinline__ void link_triangle(const int* star, const std::uint32
   int across_bi = -1;  // opposite a: (i, b, next), i's triangle t + 1
   if (closed || t + 2 < deg) {
     if (known_places) across_bi = owned_triangle_index(offset, owned, i, t + 1 < deg ? t + 1 : 0);
-    if (across_bi < 0) across_bi = triangle_index(star, info, offset, owned, i, b, star_at(star, inf, i, t + 2));
+    if (across_bi < 0) across_bi = triangle_index(star, info, offset, owned, i, b, own.at(t + 2));
   }
   int across_ia = -1;  // opposite b: (i, previous, a), i's triangle t - 1
   if (closed || t >= 1) {
     if (known_places) across_ia = owned_triangle_index(offset, owned, i, t >= 1 ? t - 1 : deg - 1);
-    if (across_ia < 0) across_ia = triangle_index(star, info, offset, owned, i, star_at(star, inf, i, t - 1), a);
+    if (across_ia < 0) across_ia = triangle_index(star, info, offset, owned, i, own.at(t - 1), a);
   }
   nb[0] = across_ab;
   nb[1] = across_bi;
   nb[2] = across_ia;
-}
-
-/// The neighbours of the triangles of a block's sites, a thread a triangle: the sites stage
-/// which of their star's triangles each output index is (site in the block, position t), and the
-/// block's threads then link them in output order.
-__global__ void __launch_bounds__(kEmitSites) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
-                                                                    const int* offset, const std::uint32_t* owned,
-                                                                    int n, int capacity, int* neighbors,
-                                                                    bool known_places) {
-  __shared__ int staged[kEmitRoom];  // site in the block << 8 | t
-  if (offset[n] > capacity) return;  // the whole grid returns: the host reports the broken walk
-  const int first = blockIdx.x * kEmitSites, last = min(first + kEmitSites, n);
-  const int i = first + static_cast<int>(threadIdx.x);
-  const std::uint32_t mask = i < n ? owned[i] : 0u;
-  const int first_index = i < n ? offset[i] : 0;
-  const int end = offset[last];
-  for (int chunk = offset[first]; chunk < end; chunk += kEmitRoom) {
-    const int chunk_end = min(chunk + kEmitRoom, end);
-    stage_owned(mask, first_index, chunk, chunk_end,
-                [&](int index, int t) { staged[index - chunk] = static_cast<int>(threadIdx.x) << 8 | t; });
-    __syncthreads();
-    for (int j = static_cast<int>(threadIdx.x); j < chunk_end - chunk; j += kEmitSites) {
-      const int s = staged[j];
-      link_triangle(star, info, offset, owned, first + (s >> 8), s & 255, chunk + j, neighbors, known_places);
-    }
-    __syncthreads();
-  }
 }
 
 /// The host audit's checks (seam/adjacency_audit.cpp) where the adjacency is made, before it
@@ -894,9 +926,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids, static_cast<int>(n), static_cast<int>(full),
       d_triangles.get(), d_owned_mask);
   if (with_neighbors && full > 0)
-    emit_neighbors_kernel<<<blocks_for(n, kEmitSites), kEmitSites, 0, stream>>>(
-        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, static_cast<int>(n), static_cast<int>(full),
-        d_neighbors.get(), known_places);
+    emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(
+        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, d_triangles.get(), d_rank.get(),
+        static_cast<int>(n), static_cast<int>(full), d_neighbors.get(), known_places);
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
