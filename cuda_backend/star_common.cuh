@@ -30,15 +30,6 @@ EXPANSE_DEVICE_FORCE int star_at(const int* star, std::uint32_t info, int o, int
   return star[static_cast<std::size_t>(o) * kStar + ((star_start(info) + t) & (kStar - 1))];
 }
 
-/// Fills the unused entries of a star's first sector with -1 where its row starts at 0, so that
-/// the emit's StarView, which loads the sector whole, reads no word that was never written
-/// (compute-sanitizer's initcheck).
-EXPANSE_DEVICE_FORCE void pad_row_head(int* star, std::uint32_t info, int o) {
-  if (star_start(info) != 0) return;
-  int* row = star + static_cast<std::size_t>(o) * kStar;
-  for (int t = star_degree(info); t < 8; ++t) row[t] = -1;
-}
-
 EXPANSE_DEVICE_FORCE int star_find(const int* star, std::uint32_t info, int o, int u) {
   const int deg = star_degree(info);
   for (int t = 0; t < deg; ++t)

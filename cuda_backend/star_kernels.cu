@@ -89,7 +89,6 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   const std::uint32_t inf = star_info(w);
   info[i] = inf;
   owned[i] = owned_triangles(star, inf, i);
-  pad_row_head(star, inf, i);
   if (inbox.posting()) post_star(inbox, star, inf, i, [](std::uint32_t* c) { return atomicAdd(c, 1u); });
 }
 
@@ -190,10 +189,8 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
     int mine = 0;
     if (walk_from_inbox(pred, i, nullptr, inbox, &w, &mine)) {
       walk_from_inbox(pred, i, star + static_cast<std::size_t>(i) * kStar, inbox, &w, &mine);
-      const std::uint32_t inf = star_info(w);
-      info[i] = inf;
+      info[i] = star_info(w);
       owned[i] = mine;
-      pad_row_head(star, inf, i);
     } else {
       search = true;
     }
@@ -241,10 +238,9 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
 /// ncu (H100, session 14 call 2), its loops as uneven as the stars.
 ///
 /// Both read stars through StarView: a closed star of at most eight neighbours (nearly every
-/// interior site's) is its row's first sector, loaded in two 16-byte words; read an entry at a
-/// time, each entry was a sector of its own across a warp (ncu, 4096^2 uniform, session 23
+/// interior site's) is its row's first sector, loaded in 16-byte words where whole; read an entry
+/// at a time, each entry was a sector of its own across a warp (ncu, 4096^2 uniform, session 23
 /// calls 1-2: 5.3 of each sector's 32 bytes used, 238 M sectors for the triangles' kernel).
-/// The walks pad the sector's unused entries (pad_row_head), so that no unwritten word is read.
 struct StarView {
   const int* star;
   std::uint32_t inf;
@@ -258,9 +254,24 @@ struct StarView {
         o(site),
         head(star_start(info) == 0 && star_degree(info) >= 1 && star_degree(info) <= 8) {
     if (head) {
-      const int4* row = reinterpret_cast<const int4*>(star + static_cast<std::size_t>(o) * kStar);
-      const int4 x = row[0], y = row[1];
-      e[0] = x.x, e[1] = x.y, e[2] = x.z, e[3] = x.w, e[4] = y.x, e[5] = y.y, e[6] = y.z, e[7] = y.w;
+      // Only the star's own words: those past its degree were never written (initcheck), and
+      // padding them in the walks cost the star kernels 0.25-0.5 ms (session 23 call 4).
+      const int deg = star_degree(info);
+      const int* row = star + static_cast<std::size_t>(o) * kStar;
+      if (deg >= 4) {
+        const int4 x = *reinterpret_cast<const int4*>(row);
+        e[0] = x.x, e[1] = x.y, e[2] = x.z, e[3] = x.w;
+      } else {
+#pragma unroll
+        for (int k = 0; k < 4; ++k) e[k] = k < deg ? row[k] : -1;
+      }
+      if (deg == 8) {
+        const int4 y = *reinterpret_cast<const int4*>(row + 4);
+        e[4] = y.x, e[5] = y.y, e[6] = y.z, e[7] = y.w;
+      } else {
+#pragma unroll
+        for (int k = 4; k < 8; ++k) e[k] = k < deg ? row[k] : -1;
+      }
     }
   }
   __device__ __forceinline__ int degree() const { return star_degree(inf); }
@@ -295,21 +306,18 @@ struct StarView {
 /// each 4-byte store was a sector of its own: 97 M sectors through L2 for 400 MB of triangles,
 /// session 23 call 1; 17 M staged, call 2).
 constexpr int kEmitSites = 128;
-constexpr int kEmitRoom = 512;  // ~2 times what a block's sites own at ~2 triangles each
+constexpr int kEmitRoom = 1024;  // ~4 times what a block's sites own at ~2 triangles each
 
 /// emit_triangles_kernel: site i's owned triangles (it is their smallest vertex), in site ids, at
 /// offset[i] on; owned[i] the bitmask of its star's triangles it owns (bit t: the triangle (i,
 /// star t, star t + 1)), so that any triangle's output index is its owner's offset plus the
 /// owned triangles before it in the owner's star. Past `capacity` (more triangles than a
 /// triangulation has: a broken walk, which the host then reports) no triangle is written.
-/// `places` (the neighbours' room, or null) takes each triangle's place, (i, t, -1), for
-/// emit_neighbors_kernel, which then overwrites it.
 __global__ void __launch_bounds__(kEmitSites) emit_triangles_kernel(const int* star, const std::uint32_t* info,
                                                                     const int* offset, const int* sorted_ids, int n,
                                                                     int capacity, int* triangles,
-                                                                    std::uint32_t* owned, int* places) {
+                                                                    std::uint32_t* owned) {
   __shared__ int staged[3 * kEmitRoom];
-  __shared__ int staged_places[3 * kEmitRoom];
   const int first = blockIdx.x * kEmitSites, last = min(first + kEmitSites, n);
   const int i = first + static_cast<int>(threadIdx.x);
   const std::uint32_t inf = i < n ? info[i] : kDeferredBit;
@@ -347,17 +355,10 @@ __global__ void __launch_bounds__(kEmitSites) emit_triangles_kernel(const int* s
       tri[0] = id;
       tri[1] = sorted_ids[view.at(t)];
       tri[2] = sorted_ids[view.at(t + 1)];
-      int* place = staged_places + 3 * (index - chunk);
-      place[0] = i;
-      place[1] = t;
-      place[2] = -1;
     }
     __syncthreads();
-    const std::size_t at = 3 * static_cast<std::size_t>(chunk);
-    for (int k = static_cast<int>(threadIdx.x); k < 3 * (chunk_end - chunk); k += kEmitSites) {
-      triangles[at + k] = staged[k];
-      if (places) places[at + k] = staged_places[k];
-    }
+    int* out = triangles + 3 * static_cast<std::size_t>(chunk);
+    for (int k = static_cast<int>(threadIdx.x); k < 3 * (chunk_end - chunk); k += kEmitSites) out[k] = staged[k];
     __syncthreads();
   }
 }
@@ -389,22 +390,25 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
 }
 
 /// Triangle k's three neighbours (-1 where there is none, or its owner deferred): neighbour j
-/// lies across the edge opposite vertex j. Its owner i and its place t in i's star are what
-/// emit_triangles_kernel left in its three words of `neighbors` (found before from the triangle
-/// itself, through rank, a random read of a 64 MB array for every triangle).
+/// lies across the edge opposite vertex j. Its owner is its first vertex (rank: site id -> local
+/// id), and its place in the owner's star the owned bit of its rank among the owner's triangles.
 /// A neighbour is also a triangle of a star already at hand (the owner's, on either side of k;
 /// the one found across the edge opposite the owner): where that star's site owns it, its index
 /// is that site's owned bits, with no search of its owner's star (`known_places`; false searches
-/// as before, for comparisons). Staging the triangles' places by block instead (no read-back of
-/// the triangles, no rank look-up) was slower: 1.83 -> 2.23 ms under ncu (session 23 call 2).
+/// as before, for comparisons). Tried and not kept (session 23): the triangles' places staged by
+/// block instead, no read-back of the triangles and no rank look-up, 1.83 -> 2.23 ms under ncu
+/// (call 2); each place left by the triangles' kernel in the triangle's neighbour words, the
+/// emit 2.50 -> 2.54 ms (call 4).
 __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
-                                                             const int* offset, const std::uint32_t* owned, int n,
+                                                             const int* offset, const std::uint32_t* owned,
+                                                             const int* triangles, const int* rank, int n,
                                                              int capacity, int* neighbors, bool known_places) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   const int total = offset[n];
   if (k >= total || total > capacity) return;
+  const int i = rank[triangles[3 * static_cast<std::size_t>(k)]];
+  const int t = static_cast<int>(__fns(owned[i], 0, k - offset[i] + 1));
   int* nb = neighbors + 3 * static_cast<std::size_t>(k);
-  const int i = nb[0], t = nb[1];
   const StarView own(star, info[i], i);
   const int deg = own.degree();
   const bool closed = own.closed();
@@ -937,11 +941,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   std::uint32_t* const d_owned_mask = reinterpret_cast<std::uint32_t*>(d_owned.get());
   emit_triangles_kernel<<<blocks_for(n, kEmitSites), kEmitSites, 0, stream>>>(
       d_star.get(), d_info.get(), d_offset.get(), d_sorted_ids, static_cast<int>(n), static_cast<int>(full),
-      d_triangles.get(), d_owned_mask, with_neighbors ? d_neighbors.get() : nullptr);
+      d_triangles.get(), d_owned_mask);
   if (with_neighbors && full > 0)
     emit_neighbors_kernel<<<blocks_for(full, 128), 128, 0, stream>>>(
-        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, static_cast<int>(n), static_cast<int>(full),
-        d_neighbors.get(), known_places);
+        d_star.get(), d_info.get(), d_offset.get(), d_owned_mask, d_triangles.get(), d_rank.get(),
+        static_cast<int>(n), static_cast<int>(full), d_neighbors.get(), known_places);
   EXPANSE_CUDA(cudaGetLastError());
   timer.end();
 
