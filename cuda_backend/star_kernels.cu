@@ -304,7 +304,8 @@ struct StarView {
 /// range of the output (offset[first] to offset[last]), staged in shared memory kEmitRoom at a
 /// time and written in whole sectors (written by their sites, a thread's ~2 triangles at a time,
 /// each 4-byte store was a sector of its own: 97 M sectors through L2 for 400 MB of triangles,
-/// session 23 call 1; 17 M staged, call 2).
+/// session 23 call 1; 17 M staged, call 2). Staged alone the kernel kept its 1.67 ms, its
+/// star reads holding it; with StarView, 0.80 ms (ncu, 4096^2 uniform, call 3).
 constexpr int kEmitSites = 128;
 constexpr int kEmitRoom = 1024;  // ~4 times what a block's sites own at ~2 triangles each
 
