@@ -7,6 +7,7 @@
 #endif
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <numeric>
 #include <thread>
@@ -17,6 +18,7 @@
 #include "input/site_set.hpp"
 #include "star_grid.hpp"
 #include "star_scan.cuh"
+#include "star_view.cuh"
 
 namespace expanse::detail::cuda {
 
@@ -236,22 +238,25 @@ class HostStarLayout {
                       : walk_star_by<StarSearch::boxes, false, false>(grid_, pred_.data(), i, row, budget);
   }
 
-  /// The triangles the emit kernel would write after walk_all(), in site ids.
+  /// The triangles the emit kernel would write after walk_all(), in site ids, read as it reads
+  /// them (StarView).
   std::vector<Triangle> owned_triangles_in_site_ids() const {
     std::vector<Triangle> out;
     for (std::size_t i = 0; i < points_.size(); ++i) {
       const std::uint32_t inf = info_[i];
       if (star_deferred(inf)) continue;
-      const int o = static_cast<int>(i);
-      const int deg = star_degree(inf);
-      const int tris = star_closed(inf) ? deg : deg - 1;
-      for (int t = 0; t < tris; ++t) {
-        const int a = star_at(star_.data(), inf, o, t), b = star_at(star_.data(), inf, o, t + 1);
-        if (o < a && o < b) out.push_back({to_site_[o], to_site_[a], to_site_[b]});
+      const StarView view(star_.data(), inf, static_cast<int>(i));
+      for (std::uint32_t m = view.owned_mask(); m != 0u; m &= m - 1u) {
+        const int t = std::countr_zero(m);
+        out.push_back({to_site_[i], to_site_[view.at(t)], to_site_[view.at(t + 1)]});
       }
     }
     return out;
   }
+
+  /// Local site i's star as walk_all() left it: its row (kStar entries) and info word.
+  const int* star_rows() const { return star_.data(); }
+  std::uint32_t star_info_of(std::size_t i) const { return info_[i]; }
 
   /// Work (cells + sites visited) of local site i's last walk by walk_all().
   std::uint32_t site_work(std::size_t i) const { return work_of_[i]; }

@@ -27,6 +27,7 @@
 #include "bucket_kernels.cuh"
 #include "star_grid.hpp"
 #include "star_scan.cuh"
+#include "star_view.cuh"
 
 namespace expanse::detail::cuda {
 namespace {
@@ -237,68 +238,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
 /// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
 /// ncu (H100, session 14 call 2), its loops as uneven as the stars.
 ///
-/// Both read stars through StarView: a closed star of at most eight neighbours (nearly every
-/// interior site's) is its row's first sector, loaded in 16-byte words where whole; read an entry
-/// at a time, each entry was a sector of its own across a warp (ncu, 4096^2 uniform, session 23
-/// calls 1-2: 5.3 of each sector's 32 bytes used, 238 M sectors for the triangles' kernel).
-struct StarView {
-  const int* star;
-  std::uint32_t inf;
-  int o;
-  bool head;  ///< the whole star is in e[] (closed, one to eight neighbours)
-  int e[8];
-
-  __device__ __forceinline__ StarView(const int* star_rows, std::uint32_t info, int site)
-      : star(star_rows),
-        inf(info),
-        o(site),
-        head(star_start(info) == 0 && star_degree(info) >= 1 && star_degree(info) <= 8) {
-    if (head) {
-      // Only the star's own words: those past its degree were never written (initcheck), and
-      // padding them in the walks cost the star kernels 0.25-0.5 ms (session 23 call 4).
-      const int deg = star_degree(info);
-      const int* row = star + static_cast<std::size_t>(o) * kStar;
-      if (deg >= 4) {
-        const int4 x = *reinterpret_cast<const int4*>(row);
-        e[0] = x.x, e[1] = x.y, e[2] = x.z, e[3] = x.w;
-      } else {
-#pragma unroll
-        for (int k = 0; k < 4; ++k) e[k] = k < deg ? row[k] : -1;
-      }
-      if (deg == 8) {
-        const int4 y = *reinterpret_cast<const int4*>(row + 4);
-        e[4] = y.x, e[5] = y.y, e[6] = y.z, e[7] = y.w;
-      } else {
-#pragma unroll
-        for (int k = 4; k < 8; ++k) e[k] = k < deg ? row[k] : -1;
-      }
-    }
-  }
-  __device__ __forceinline__ int degree() const { return star_degree(inf); }
-  __device__ __forceinline__ bool closed() const { return star_closed(inf); }
-  __device__ __forceinline__ int triangles() const { return closed() ? degree() : degree() - 1; }
-  /// Entry t, t in [-1, degree + 1], wrapping as star_at (selects, not an indexed array: an
-  /// index unknown at compile time would put e[] in local memory).
-  __device__ __forceinline__ int at(int t) const {
-    if (!head) return star_at(star, inf, o, t);
-    const int deg = degree();
-    t = t < 0 ? t + deg : t;
-    t = t >= deg ? t - deg : t;
-    t = t >= deg ? t - deg : t;
-    int v = e[0];
-#pragma unroll
-    for (int k = 1; k < 8; ++k) v = t == k ? e[k] : v;
-    return v;
-  }
-  __device__ __forceinline__ int find(int u) const {
-    if (!head) return star_find(star, inf, o, u);
-    const int deg = degree();
-    int p = -1;
-#pragma unroll
-    for (int k = 7; k >= 0; --k) p = k < deg && e[k] == u ? k : p;
-    return p;
-  }
-};
+/// Both read stars through StarView (star_view.cuh).
 
 /// Blocks of kEmitSites sites for the triangles' kernel: a block's triangles are one contiguous
 /// range of the output (offset[first] to offset[last]), staged in shared memory kEmitRoom at a
@@ -325,23 +265,7 @@ __global__ void __launch_bounds__(kEmitSites) emit_triangles_kernel(const int* s
   const bool live = !star_deferred(inf);
   const StarView view(star, inf, i);  // a deferred site's (degree 0) loads and reads nothing
   std::uint32_t mask = 0;
-  if (live) {
-    const int tris = view.triangles();
-    if (view.head) {
-#pragma unroll
-      for (int t = 0; t < 8; ++t) {
-        const int a = view.e[t], b = t + 1 < view.degree() ? view.e[(t + 1) & 7] : view.e[0];
-        mask |= static_cast<std::uint32_t>(t < tris && i < a && i < b) << t;
-      }
-    } else {
-      int a = view.at(0);
-      for (int t = 0; t < tris; ++t) {
-        const int b = view.at(t + 1);
-        mask |= static_cast<std::uint32_t>(i < a && i < b) << t;
-        a = b;
-      }
-    }
-  }
+  if (live) mask = view.owned_mask();
   if (i < n) owned[i] = mask;
   const int first_index = i < n ? offset[i] : 0;
   const int id = i < n ? sorted_ids[i] : -1;

@@ -140,6 +140,65 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
   }
 }
 
+/// Where site o's StarView (the emit's reads) differs from star_at and star_find: entries at
+/// t in [-1, degree + 1], the position of each neighbour and of a site not in the star, and the
+/// owned bits counted from star_at.
+int star_view_mismatches(const int* rows, std::uint32_t info, int o) {
+  const cuda::StarView view(rows, info, o);
+  const int deg = cuda::star_degree(info);
+  int bad = 0;
+  std::uint32_t owned = 0;
+  for (int t = -1; t <= deg + 1; ++t) bad += view.at(t) != cuda::star_at(rows, info, o, t);
+  for (int t = 0; t < deg; ++t) {
+    const int u = cuda::star_at(rows, info, o, t);
+    bad += view.find(u) != cuda::star_find(rows, info, o, u);
+  }
+  bad += view.find(-5) != -1;
+  for (int t = 0; t < (cuda::star_closed(info) ? deg : deg - 1); ++t) {
+    const int a = cuda::star_at(rows, info, o, t), b = cuda::star_at(rows, info, o, t + 1);
+    owned |= static_cast<std::uint32_t>(o < a && o < b) << t;
+  }
+  bad += view.owned_mask() != owned;
+  return bad;
+}
+
+TEST_CASE("CUDA emit: StarView reads every star as star_at and star_find read it", "[cuda][star]") {
+  namespace p = test::points;
+  SECTION("the walks' stars: closed ones in their row's first sector, hull stars wrapping") {
+    for (const auto make : {p::uniform, p::kuzmin, p::grid}) {
+      const std::vector<Point2> points = make(5000, 3);
+      const SiteSet sites = prepare_sites(points);
+      cuda::HostStarLayout layout(sites, convex_hull(sites), 2.0, true);
+      layout.walk_all(0, 1, cuda::StarSearch::boxes, false);
+      int heads = 0, rows = 0, bad = 0;
+      for (std::size_t i = 0; i < layout.site_count(); ++i) {
+        const std::uint32_t info = layout.star_info_of(i);
+        if (cuda::star_deferred(info)) continue;
+        (cuda::StarView(layout.star_rows(), info, static_cast<int>(i)).head ? heads : rows) += 1;
+        bad += star_view_mismatches(layout.star_rows(), info, static_cast<int>(i));
+      }
+      CHECK(bad == 0);
+      CHECK(heads > 0);  // both of StarView's paths are taken
+      CHECK(rows > 0);
+    }
+  }
+  SECTION("any row: every start, degrees 1 to kStar, open and closed") {
+    std::mt19937 rng(7);
+    std::vector<int> rows(4 * cuda::kStar);
+    int bad = 0;
+    for (int start = 0; start < cuda::kStar; ++start)
+      for (int deg = 1; deg <= cuda::kStar; ++deg)
+        for (const bool closed : {false, true}) {
+          for (int& v : rows) v = static_cast<int>(rng() % 16);  // repeats: find() takes the first
+          const int o = static_cast<int>(rng() % 4);
+          const std::uint32_t info = static_cast<std::uint32_t>(deg) | (static_cast<std::uint32_t>(start) << 8) |
+                                     (closed ? cuda::kClosedBit : 0u);
+          bad += star_view_mismatches(rows.data(), info, o);
+        }
+    CHECK(bad == 0);
+  }
+}
+
 TEST_CASE("CUDA star walk on the CPU: the first pass's light walk makes the full walk's star, or hands on",
           "[cuda][star]") {
   // The first pass walks without the exact path and without cutting rows to the search's region
