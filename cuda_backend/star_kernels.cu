@@ -233,12 +233,11 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
                                                         WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
-/// The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
-/// then a thread per triangle: one thread a site, linking each of its triangles by searching the
-/// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
-/// ncu (H100, session 14 call 2), its loops as uneven as the stars.
-///
-/// Both read stars through StarView (star_view.cuh).
+// The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
+// then a thread per triangle: one thread a site, linking each of its triangles by searching the
+// stars around it, ran at 5.7 of a warp's 32 threads and took 7.0 ms at 4096^2 uniform under
+// ncu (H100, session 14 call 2), its loops as uneven as the stars. Both read stars through
+// StarView (star_view.cuh).
 
 /// Blocks of kEmitSites sites for the triangles' kernel: a block's triangles are one contiguous
 /// range of the output (offset[first] to offset[last]), staged in shared memory kEmitRoom at a
