@@ -7,9 +7,9 @@
 #
 #   bash bench/device/bundle.sh [BUILD_DIR]     (default: build-device)
 #
-# EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda and expanse-bench if there (a build of the commit a
-# change is measured against, same libraries) as baseline/: run-on-device.sh's `compare` step
-# runs both builds alternately in one call.
+# EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda, and its expanse-bench if there (a build of
+# the commit a change is measured against, same libraries), as baseline/: run-on-device.sh's
+# `compare` step runs both builds alternately in one call.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$(realpath "${1:-$root/build-device}")"
