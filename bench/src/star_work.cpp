@@ -5,16 +5,20 @@
 // With --first-pass B (box searches), also what the kernel's light first pass (walk_star_boxes'
 // FirstPass) does with a budget of B: the sites it hands on to the second pass, for an undecided
 // candidate or for running past B, and its predicates. With --by-occupancy, the sites' share and
-// work split by how many sites their cell holds.
+// work split by how many sites their cell holds. With --emit-views, how many stars the emit's
+// links read (StarView loads), a thread a triangle (the kernel) against a thread a site linking
+// the triangles it owns, and what lock-step warps of 32 make of each.
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
 //                           [--search boxes,rings] [--budget N] [--first-pass B] [--threads 2]
-//                           [--by-occupancy] [-o FILE.jsonl] [--note TEXT]
+//                           [--by-occupancy] [--emit-views] [-o FILE.jsonl] [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -25,6 +29,78 @@
 #include "input/parallel.hpp"
 #include "star_host.hpp"
 #include "support.hpp"
+
+namespace {
+
+/// Stars the emit's links read for triangle t of site i (the triangle (i, star t, star t + 1)),
+/// as emit_neighbors_kernel reads them: i's own, the star across the edge opposite i (a's, or
+/// b's where a deferred), and the owner's of each neighbour that neither of those owns.
+int link_views(const int* rows, const std::vector<std::uint32_t>& info, int i, int t) {
+  using namespace expanse::detail::cuda;
+  const StarView own(rows, info[i], i);
+  const int deg = own.degree(), a = own.at(t), b = own.at(t + 1);
+  int views = 1;
+  if (!star_deferred(info[a]) || !star_deferred(info[b])) {
+    ++views;
+    const bool at_a = !star_deferred(info[a]);
+    const StarView across(rows, info[at_a ? a : b], at_a ? a : b);
+    const int p = across.find(at_a ? b : a);
+    if (p >= 0) {
+      const int r = at_a ? across.at(p - 1) : across.at(p + 1);
+      const int holder = at_a ? a : b;  // its owned bits are at hand
+      if (std::min({a, b, r}) != holder) ++views;
+    }
+  }
+  if (own.closed() || t + 2 < deg) views += !(i < b && i < own.at(t + 2));
+  if (own.closed() || t >= 1) views += !(i < own.at(t - 1) && i < a);
+  return views;
+}
+
+/// The emit's star reads, a thread a triangle (the kernel: warps of 32 consecutive triangles)
+/// against a thread a site linking its own triangles (warps of 32 consecutive sites).
+nlohmann::ordered_json count_emit_views(const expanse::detail::cuda::HostStarLayout& layout) {
+  using namespace expanse::detail::cuda;
+  const std::size_t n = layout.site_count();
+  std::vector<std::uint32_t> info(n);
+  for (std::size_t i = 0; i < n; ++i) info[i] = layout.star_info_of(i);
+  const int* rows = layout.star_rows();
+  std::uint64_t views = 0, site_views_total = 0, triangles = 0, per_triangle_lockstep = 0, per_site_lockstep = 0;
+  int warp_triangle_max = 0, warp_triangles = 0, warp_site_max = 0, warp_sites = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    const int i = static_cast<int>(s);
+    int site_views = 0;
+    if (!star_deferred(info[s])) {
+      const StarView own(rows, info[s], i);
+      site_views = 1;  // its own star, read once
+      for (std::uint32_t m = own.owned_mask(); m != 0u; m &= m - 1u) {
+        const int v = link_views(rows, info, i, std::countr_zero(m));
+        views += v;
+        ++triangles;
+        site_views += v - 1;
+        warp_triangle_max = std::max(warp_triangle_max, v);
+        if (++warp_triangles == 32) {
+          per_triangle_lockstep += warp_triangle_max;
+          warp_triangle_max = warp_triangles = 0;
+        }
+      }
+    }
+    site_views_total += site_views;
+    warp_site_max = std::max(warp_site_max, site_views);
+    if (++warp_sites == 32) {
+      per_site_lockstep += warp_site_max;
+      warp_site_max = warp_sites = 0;
+    }
+  }
+  per_triangle_lockstep += warp_triangle_max;
+  per_site_lockstep += warp_site_max;
+  return {{"triangles", triangles},
+          {"views_a_thread_a_triangle", views},
+          {"views_a_thread_a_site", site_views_total},
+          {"lockstep_views_a_thread_a_triangle", per_triangle_lockstep * 32},
+          {"lockstep_views_a_thread_a_site", per_site_lockstep * 32}};
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Counts the CUDA per-site kernel's work on the CPU"};
@@ -37,6 +113,7 @@ int main(int argc, char** argv) {
   unsigned budget = 0;  // the kernel's default for each search
   unsigned first_pass = 0;  // 0: not counted
   bool by_occupancy = false;
+  bool emit_views = false;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -55,6 +132,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 2}));
   app.add_flag("--by-occupancy", by_occupancy,
                "also split the sites by how many sites their cell holds: share of sites and work a site per class");
+  app.add_flag("--emit-views", emit_views,
+               "also count the stars the emit's links read, a thread a triangle against a thread a site");
   CLI11_PARSE(app, argc, argv);
 
   bench::JsonLinesOutput sink(output);
@@ -130,6 +209,7 @@ int main(int argc, char** argv) {
                                  {"work_per_site", double(class_work[c]) / double(class_sites[c])}});
           record["by_occupancy"] = classes;
         }
+        if (emit_views) record["emit_views"] = count_emit_views(layout);
         out << record.dump() << std::endl;
       }
     }
