@@ -140,6 +140,8 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
   }
 }
 
+namespace {
+
 /// Where site o's StarView (the emit's reads) differs from star_at and star_find: entries at
 /// t in [-1, degree + 1], the position of each neighbour and of a site not in the star, and the
 /// owned bits counted from star_at.
@@ -161,6 +163,8 @@ int star_view_mismatches(const int* rows, std::uint32_t info, int o) {
   bad += view.owned_mask() != owned;
   return bad;
 }
+
+}  // namespace
 
 TEST_CASE("CUDA emit: StarView reads every star as star_at and star_find read it", "[cuda][star]") {
   namespace p = test::points;
