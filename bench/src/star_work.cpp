@@ -45,7 +45,8 @@ int link_views(const int* rows, const std::vector<std::uint32_t>& info, int i, i
     const bool at_a = !star_deferred(info[a]);
     const StarView across(rows, info[at_a ? a : b], at_a ? a : b);
     const int p = across.find(at_a ? b : a);
-    if (p >= 0) {
+    // As the kernel: an open star has no triangle before its first entry or after its last.
+    if (p >= 0 && (across.closed() || (at_a ? p > 0 : p < across.degree() - 1))) {
       const int r = at_a ? across.at(p - 1) : across.at(p + 1);
       const int holder = at_a ? a : b;  // its owned bits are at hand
       if (std::min({a, b, r}) != holder) ++views;
