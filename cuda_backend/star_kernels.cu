@@ -322,7 +322,7 @@ __device__ int triangle_index(const int* star, const std::uint32_t* info, const 
 /// as before, for comparisons). Tried and not kept (session 23): the triangles' places staged by
 /// block instead, no read-back of the triangles and no rank look-up, 1.83 -> 2.23 ms under ncu
 /// (call 2); each place left by the triangles' kernel in the triangle's neighbour words, the
-/// emit 2.50 -> 2.54 ms (call 4).
+/// emit 2.54 ms (call 4) against 2.50 without (call 3, another H100).
 __global__ void __launch_bounds__(128) emit_neighbors_kernel(const int* star, const std::uint32_t* info,
                                                              const int* offset, const std::uint32_t* owned,
                                                              const int* triangles, const int* rank, int n,
