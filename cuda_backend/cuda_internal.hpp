@@ -92,6 +92,7 @@ class StreamTimeline {
   void mark(const char* name, cudaStream_t stream);
   /// Synchronises on every mark and prints them, in ms after the first.
   void print(const char* title);
+  bool on() const { return on_; }
 
  private:
   bool on_ = false;

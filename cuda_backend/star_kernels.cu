@@ -699,6 +699,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     int* const edge_retry = edge_depth > 0 ? edge_sites + n : nullptr;
     int* const edge_undecided = edge_depth > 0 ? edge_sites + 2 * n : nullptr;
     unsigned int* const edge_counts = d_counters.get() + 9;
+    // Experiments: EXPANSE_CUDA_EDGE_FIRST_BUDGET sets the edge's first pass's budget apart;
+    // EXPANSE_CUDA_EDGE_AFTER=phase0 starts the edge's stream after the first phase.
+    const char* edge_first_env = std::getenv("EXPANSE_CUDA_EDGE_FIRST_BUDGET");
+    const unsigned edge_budget =
+        edge_first_env ? std::min(budget, static_cast<unsigned>(std::strtoul(edge_first_env, nullptr, 10))) : pass_budget;
+    const char* edge_after_env = std::getenv("EXPANSE_CUDA_EDGE_AFTER");
+    const bool edge_after_phase0 = edge_after_env && std::strcmp(edge_after_env, "phase0") == 0;
     const bool light = two_passes && !first_full;
     // The stars are walked in two phases (StarInbox) above 2^18 sites, else in one; or as
     // EXPANSE_CUDA_PHASES (1 or 2) says. Morton order (EXPANSE_CUDA_ORDER) walks in one. H100,
@@ -745,7 +752,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr bool exact = decltype(lattice)::value;
       cudaEvent_t fork = nullptr, join = nullptr;
       timeline.mark("start", stream);
-      if (edge.keys) {
+      auto launch_edge = [&] {
+        if (!edge.keys) return;
         edge_list_kernel<<<blocks_for(n), kThreads, 0, stream>>>(edge, static_cast<int>(n), edge_sites, edge_counts);
         EXPANSE_CUDA(cudaEventCreateWithFlags(&fork, cudaEventDisableTiming));
         EXPANSE_CUDA(cudaEventCreateWithFlags(&join, cudaEventDisableTiming));
@@ -754,14 +762,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         const cudaStream_t es = ctx.edge_stream;
         if (light) {
           star_list_kernel<StarSearch::boxes, edge_b, exact, true><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
           star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
           star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget, edge_sites,
+              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
@@ -770,7 +778,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
             edge_counts + 1);
         timeline.mark("edge retry", es);
         EXPANSE_CUDA(cudaEventRecord(join, es));
-      }
+      };
+      if (!edge_after_phase0) launch_edge();
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
       // The second phase either walks every odd site, or first records those whose inboxes hold
       // their whole stars (inbox_star_kernel) and walks the rest from a list (`later_list`).
@@ -793,6 +802,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                 pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
           }
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
+          if (phase == 0 && edge_after_phase0) launch_edge();
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
@@ -1025,6 +1035,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   result.iterations = 1;
   result.device_stages = timer.collect();
   timeline.print("star stage timeline (ms)");
+  if (timeline.on()) {
+    // The lists' lengths beside the timeline (counters[7..12]).
+    unsigned int c[13];
+    EXPANSE_CUDA(cudaMemcpy(c, d_counters.get(), sizeof c, cudaMemcpyDeviceToHost));
+    std::fprintf(stderr, "star stage lists: retry %u; undecided %u; edge %u; edge retry %u; edge undecided %u; phase 1 search %u\n",
+                 c[7], c[8], c[9], c[10], c[11], c[12]);
+  }
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   result.host_stages.push_back({"cuda upload (host)", ms(host_start, host_uploaded)});
   result.host_stages.push_back({"cuda output allocation (host, while the device works)", ms(host_launched, host_allocated)});
