@@ -669,6 +669,17 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const bool first_full = (first_walk_env && std::strcmp(first_walk_env, "full") == 0) ||
                           (input.sites.integer_coordinates && !exact_lattice);
   const int retry_blocks = 8 * ctx.multiprocessors;
+  // Experiment: EXPANSE_CUDA_EDGE_THREADS (32, 64 or 128) sets the edge stream's blocks, and
+  // EXPANSE_CUDA_LIST_THREADS the main stream's lists' (undecided, retry), as many threads in all.
+  auto block_threads = [](const char* name) {
+    const char* env = std::getenv(name);
+    const int t = env ? std::atoi(env) : 128;
+    return t == 32 || t == 64 ? t : 128;
+  };
+  const int edge_threads = block_threads("EXPANSE_CUDA_EDGE_THREADS");
+  const int edge_blocks_n = retry_blocks * (128 / edge_threads);
+  const int list_threads = block_threads("EXPANSE_CUDA_LIST_THREADS");
+  const int list_blocks_n = retry_blocks * (128 / list_threads);
   DeviceArray<int> d_undecided(two_passes && !first_full ? n : 0, stream);
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
@@ -761,19 +772,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, fork));
         const cudaStream_t es = ctx.edge_stream;
         if (light) {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, true><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
-          star_list_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
-        star_retry_kernel<StarSearch::boxes, edge_b, exact><<<retry_blocks, 128, 0, es>>>(
+        star_retry_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", es);
@@ -810,7 +821,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
                     star_kernel<StarSearch::boxes, later_b, exact, true, true>,
                     star_list_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
-        star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
+        star_list_kernel<StarSearch::boxes, first_b, exact><<<list_blocks_n, list_threads, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
@@ -820,7 +831,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                     star_list_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (two_passes)
-        star_retry_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
+        star_retry_kernel<StarSearch::boxes, first_b, exact><<<list_blocks_n, list_threads, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
             d_retry.get(),
             d_counters.get() + 7);
