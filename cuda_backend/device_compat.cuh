@@ -18,6 +18,7 @@ __device__ __forceinline__ double load_readonly(const double* p) { return __ldg(
 __device__ __forceinline__ int load_readonly(const int* p) { return __ldg(p); }
 __device__ __forceinline__ double2 load_site(const double2* points, int i) { return __ldg(points + i); }
 __device__ __forceinline__ std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return __ldg(starts + c); }
+__device__ __forceinline__ std::uint32_t load_readonly(const std::uint32_t* p) { return __ldg(p); }
 }  // namespace expanse::detail::cuda
 
 #else
@@ -40,6 +41,7 @@ inline double load_readonly(const double* p) { return *p; }
 inline int load_readonly(const int* p) { return *p; }
 inline double2 load_site(const double2* points, int i) { return points[i]; }
 inline std::uint32_t load_cell_start(const std::uint32_t* starts, int c) { return starts[c]; }
+inline std::uint32_t load_readonly(const std::uint32_t* p) { return *p; }
 using std::fabs;
 using std::fmax;
 using std::fmin;

@@ -4,6 +4,7 @@
 // search. Everything a kernel decides here is exact; what it cannot decide it reports as
 // `uncertain` and the caller defers the work to the CPU seam stage.
 #include <cstdint>
+#include <cstring>
 
 #include "device_compat.cuh"
 #include "grid/quantile_guide.hpp"
@@ -106,6 +107,62 @@ struct QuantileGuide {
   }
 };
 
+/// The grid's two outermost columns and rows on each side, their sites in order of a key that
+/// grows inwards: the left strip (columns 0 and 1) by x, the right (the last two columns) by -x,
+/// the bottom (rows 0 and 1) by y, the top (the last two rows) by -y. A search whose region lies in one of them and runs along it
+/// (hull-hugging sites beside a straight side of the hull: circles through nearly collinear
+/// sites, whose region is a sliver along the whole side) tests only the strip's sites up to the
+/// region's inner bound instead of every row of the side (star_scan.cuh). Built by
+/// boundary_strips_kernel (star_kernels.cu) or the host mirror (star_host.hpp); no strip: ids null.
+enum StripSide : int { kStripLeft = 0, kStripRight = 1, kStripBottom = 2, kStripTop = 3 };
+struct BoundaryStrips {
+  const std::uint32_t* keys = nullptr;  ///< side s: keys[s * capacity + k], ascending (strip_key)
+  const int* ids = nullptr;             ///< the sites (local ids), in the same order
+  const int* length = nullptr;          ///< length[s]: the sites in side s (0: that side has none)
+  int capacity = 0;
+};
+
+/// A key monotone in the coordinate c (c <= c' gives strip_key(c) <= strip_key(c')): c rounded to
+/// float (rounding is monotone) and its bits ordered as unsigned integers. A strip sorted by these
+/// keys holds every site with coordinate <= c before its first key above strip_key(c): exact, for
+/// half the sort's passes of the doubles themselves.
+EXPANSE_HOST_DEVICE std::uint32_t strip_key(double c) {
+  const float f = static_cast<float>(c);
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+}
+
+/// Room for each side's sites: a side holds two rows or columns of cells, two to four sites a
+/// cell on average; a side with more (a cluster against the box's edge) has no strip (length 0).
+/// Grids under 4 x 4 cells have none.
+EXPANSE_HOST_DEVICE int strip_capacity(int gx, int gy) { return 16 * (gx > gy ? gx : gy); }
+EXPANSE_HOST_DEVICE bool strips_fit(int gx, int gy) { return gx >= 4 && gy >= 4; }
+/// The cells of side s, and the j-th of them (in cell order, as the strip gathers its sites).
+EXPANSE_HOST_DEVICE int strip_cells(int s, int gx, int gy) { return 2 * (s == kStripLeft || s == kStripRight ? gy : gx); }
+EXPANSE_HOST_DEVICE int strip_cell(int s, int j, int gx, int gy) {
+  return s == kStripLeft    ? (j >> 1) * gx + (j & 1)
+         : s == kStripRight ? (j >> 1) * gx + gx - 2 + (j & 1)
+         : s == kStripBottom ? j
+                             : (gy - 2) * gx + j;
+}
+/// The coordinate that grows inwards from side s.
+EXPANSE_HOST_DEVICE double strip_coordinate(int s, double2 p) {
+  return s == kStripLeft ? p.x : s == kStripRight ? -p.x : s == kStripBottom ? p.y : -p.y;
+}
+
+/// How many of side s's sites have keys at most `key` (a binary search).
+EXPANSE_DEVICE_FORCE int strip_prefix(const BoundaryStrips& strips, int s, std::uint32_t key) {
+  const std::uint32_t* keys = strips.keys + static_cast<std::size_t>(s) * strips.capacity;
+  int lo = 0, hi = load_readonly(strips.length + s);
+  while (lo < hi) {
+    const int m = (lo + hi) >> 1;
+    if (load_readonly(keys + m) <= key) lo = m + 1;
+    else hi = m;
+  }
+  return lo;
+}
+
 /// A grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1] the sites
 /// of cell c (indices into the sorted arrays). Two kinds, one interface:
 ///  - uniform (xb == nullptr): cell_x is a rounded affine map, monotone;
@@ -127,6 +184,7 @@ struct GridView {
   /// An apex search's first box (star_scan.cuh): half-width first_reach * |ab|_1 / 2 around the
   /// point first_offset * |ab| / 2 left of the edge's midpoint (first_box_shape in star_grid.hpp).
   double first_reach = 1.0, first_offset = 1.0;
+  BoundaryStrips strips;  ///< optional (strips.ids null: none)
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').

@@ -106,6 +106,32 @@ class HostStarLayout {
     grid_.cell_start = cell_start_.data();
   }
 
+  /// With `on`, the walks scan the grid's boundary strips where they are the shorter scan (the
+  /// kernels' edge walks and second pass: walk_star_boxes' Strips), built here as
+  /// boundary_strips_kernel builds them: each side's sites in cell order, stably sorted by key.
+  void use_strips(bool on) {
+    strips_ = on;
+    if (!on || !strip_ids_.empty() || !strips_fit(grid_.gx, grid_.gy)) return;
+    const int capacity = strip_capacity(grid_.gx, grid_.gy);
+    strip_keys_.assign(4 * static_cast<std::size_t>(capacity), 0xffffffffu);
+    strip_ids_.assign(strip_keys_.size(), -1);
+    for (int s = 0; s < 4; ++s) {
+      std::vector<std::pair<std::uint32_t, int>> side;
+      for (int j = 0; j < strip_cells(s, grid_.gx, grid_.gy); ++j) {
+        const int c = strip_cell(s, j, grid_.gx, grid_.gy);
+        for (std::uint32_t q = cell_start_[c]; q < cell_start_[c + 1]; ++q)
+          side.emplace_back(strip_key(strip_coordinate(s, points_[q])), static_cast<int>(q));
+      }
+      std::stable_sort(side.begin(), side.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      strip_length_[s] = side.size() <= static_cast<std::size_t>(capacity) ? static_cast<int>(side.size()) : 0;
+      for (int k = 0; k < strip_length_[s]; ++k) {
+        strip_keys_[static_cast<std::size_t>(s) * capacity + k] = side[k].first;
+        strip_ids_[static_cast<std::size_t>(s) * capacity + k] = side[k].second;
+      }
+    }
+    grid_.strips = {strip_keys_.data(), strip_ids_.data(), strip_length_.data(), capacity};
+  }
+
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
   /// kernel's default for the search), spread over
   /// `threads` host threads; the result does not depend on their number.
@@ -156,6 +182,9 @@ class HostStarLayout {
           }
         } else if (inbox.reading)
           w = reading_walk(row);
+        else if (strips_)
+          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true, false, false, true>(grid_, pred_.data(), s, row, budget)
+                             : walk_star_by<StarSearch::boxes, false, false, false, true>(grid_, pred_.data(), s, row, budget);
         else
           w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), s, row, budget)
                              : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), s, row, budget);
@@ -231,6 +260,13 @@ class HostStarLayout {
   /// Site i's walk by box scans into `row`, as the kernels' passes walk it: the full walk, or
   /// the first pass's light one (walk_star_boxes' FirstPass).
   StarWalk walk_site(int i, int* row, unsigned budget, bool first_pass) const {
+    if (strips_) {
+      if (exact_lattice_)
+        return first_pass ? walk_star_by<StarSearch::boxes, true, true, false, true>(grid_, pred_.data(), i, row, budget)
+                          : walk_star_by<StarSearch::boxes, true, false, false, true>(grid_, pred_.data(), i, row, budget);
+      return first_pass ? walk_star_by<StarSearch::boxes, false, true, false, true>(grid_, pred_.data(), i, row, budget)
+                        : walk_star_by<StarSearch::boxes, false, false, false, true>(grid_, pred_.data(), i, row, budget);
+    }
     if (exact_lattice_)
       return first_pass ? walk_star_by<StarSearch::boxes, true, true>(grid_, pred_.data(), i, row, budget)
                         : walk_star_by<StarSearch::boxes, true, false>(grid_, pred_.data(), i, row, budget);
@@ -297,6 +333,10 @@ class HostStarLayout {
   std::vector<std::uint32_t> info_;
   std::vector<std::uint32_t> work_of_;
   bool verify_inbox_walks_ = false;
+  bool strips_ = false;
+  std::vector<std::uint32_t> strip_keys_;
+  std::vector<int> strip_ids_;
+  std::array<int, 4> strip_length_{};
 };
 
 }  // namespace expanse::detail::cuda

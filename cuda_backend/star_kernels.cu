@@ -8,7 +8,9 @@
 // Work runs in sorted-by-cell order ("local ids"): neighbouring threads walk neighbouring
 // cells, so their point reads share cache lines. A triangle is owned by its smallest local id;
 // any total order works, each triangle is still emitted exactly once.
+#include <cub/block/block_scan.cuh>
 #include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_segmented_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
@@ -45,7 +47,7 @@ enum class WalkPass { only, first, retry };
 /// only the exact path decides, for a thread each (star_list_kernel). The lists of the grid's
 /// edge (EdgeCells) are apart from the rest's: counters[7..8] count the rest's, [10..11] the edge's.
 template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false,
-          bool ReadsInbox = false>
+          bool ReadsInbox = false, bool Strips = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list,
@@ -54,9 +56,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
-    w = walk_star_boxes<Walker::warp, ExactLattice>(g, pred, i, row, budget);
+    w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox>(g, pred, i, row, budget, inbox);
+    w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -119,6 +121,94 @@ __global__ void edge_list_kernel(EdgeCells edge, int n, int* list, unsigned int*
   if (i < n && edge.holds(i)) list[atomicAdd(count, 1u)] = i;
 }
 
+/// The grid's boundary strips (BoundaryStrips), unsorted: block s gathers side s's sites in
+/// cell order (its cells in order, a cell's sites in order) with their keys, pads the side's
+/// room with keys above every key, and sets length[s] (0 where the room is too small) and the
+/// segment offsets for the sort. Cell order makes the sorted strips, and so the walks' work, the
+/// same every run (the sort is stable).
+constexpr int kStripThreads = 1024;
+__global__ void __launch_bounds__(kStripThreads) boundary_strips_kernel(GridView g, int capacity,
+                                                                        std::uint32_t* keys, int* ids, int* length,
+                                                                        int* offsets) {
+  using Scan = cub::BlockScan<int, kStripThreads>;
+  __shared__ typename Scan::TempStorage scan;
+  __shared__ int base;
+  const int s = static_cast<int>(blockIdx.x);
+  const int cells = strip_cells(s, g.gx, g.gy);
+  std::uint32_t* const side_keys = keys + static_cast<std::size_t>(s) * capacity;
+  int* const side_ids = ids + static_cast<std::size_t>(s) * capacity;
+  if (threadIdx.x == 0) base = 0;
+  __syncthreads();
+  for (int first = 0; first < cells; first += kStripThreads) {
+    const int j = first + static_cast<int>(threadIdx.x);
+    std::uint32_t begin = 0, end = 0;
+    if (j < cells) {
+      const int c = strip_cell(s, j, g.gx, g.gy);
+      begin = g.cell_start[c];
+      end = g.cell_start[c + 1];
+    }
+    int at = 0, total = 0;
+    Scan(scan).ExclusiveSum(static_cast<int>(end - begin), at, total);
+    at += base;
+    for (std::uint32_t q = begin; q < end; ++q, ++at)
+      if (at < capacity) {
+        side_keys[at] = strip_key(strip_coordinate(s, g.points[q]));
+        side_ids[at] = static_cast<int>(q);
+      }
+    __syncthreads();
+    if (threadIdx.x == 0) base += total;
+    __syncthreads();
+  }
+  for (int k = base + static_cast<int>(threadIdx.x); k < capacity; k += kStripThreads) {
+    side_keys[k] = 0xffffffffu;
+    side_ids[k] = -1;
+  }
+  if (threadIdx.x == 0) {
+    length[s] = base <= capacity ? base : 0;
+    offsets[s] = s * capacity;
+    if (s == 3) offsets[4] = 4 * capacity;
+  }
+}
+
+/// The strips' arrays, room for `room` sites a side (0: no strips), sorted on build.
+class StripBuffers {
+ public:
+  StripBuffers(int room, cudaStream_t stream)
+      : room_(room), keys_(4 * static_cast<std::size_t>(room), stream), sorted_keys_(keys_.size(), stream),
+        ids_(keys_.size(), stream), sorted_ids_(keys_.size(), stream), length_(room > 0 ? 4 : 0, stream),
+        offsets_(room > 0 ? 5 : 0, stream), temp_(sort_bytes(room, stream), stream) {}
+  bool wanted() const { return room_ > 0; }
+  /// Gathers and sorts the strips of g's grid (its cells bucketed) and sets g.strips.
+  void build(GridView& g, cudaStream_t stream) {
+    const int capacity = strip_capacity(g.gx, g.gy);
+    if (capacity > room_ || !strips_fit(g.gx, g.gy)) return;  // no strips
+    boundary_strips_kernel<<<4, kStripThreads, 0, stream>>>(g, capacity, keys_.get(), ids_.get(), length_.get(),
+                                                           offsets_.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    std::size_t bytes = temp_.bytes();
+    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(temp_.get(), bytes, keys_.get(), sorted_keys_.get(),
+                                                          ids_.get(), sorted_ids_.get(), 4 * capacity, 4,
+                                                          offsets_.get(), offsets_.get() + 1, 0, 32, stream));
+    g.strips = {sorted_keys_.get(), sorted_ids_.get(), length_.get(), capacity};
+  }
+
+ private:
+  static std::size_t sort_bytes(int room, cudaStream_t stream) {
+    if (room == 0) return 0;
+    std::size_t bytes = 0;
+    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(nullptr, bytes, static_cast<std::uint32_t*>(nullptr),
+                                                          static_cast<std::uint32_t*>(nullptr),
+                                                          static_cast<int*>(nullptr), static_cast<int*>(nullptr),
+                                                          4 * room, 4, static_cast<int*>(nullptr),
+                                                          static_cast<int*>(nullptr), 0, 32, stream));
+    return bytes;
+  }
+  int room_;
+  DeviceArray<std::uint32_t> keys_, sorted_keys_;
+  DeviceArray<int> ids_, sorted_ids_, length_, offsets_;
+  DeviceArray<unsigned char> temp_;
+};
+
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const int* pred, int n, int* star,
                                                               std::uint32_t* info, int* owned,
@@ -150,7 +240,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
 ///  - the first pass of the grid's edge (EdgeCells), on its own stream.
 ///  - the second phase's sites that need a search (inbox_star_kernel), reading their inboxes
 ///    (ReadsInbox), in the phase's pass.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
+          bool Strips = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, const int* pred, int* star,
                                                                    std::uint32_t* info, int* owned,
                                                                    unsigned int* counters, unsigned budget,
@@ -161,7 +252,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, c
                                                                    StarInbox inbox = {}) {
   const unsigned sites = *count;
   for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
-    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox>(
+    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(
         g, pred, list[k], star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
 }
 
@@ -229,8 +320,8 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
   const unsigned sites = *count;
   const unsigned warps = gridDim.x * (blockDim.x / 32);
   for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
-    walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, retry_list[k], star, info, owned, counters, budget,
-                                                        WalkPass::retry, nullptr, nullptr, nullptr);
+    walk_and_record<Search, Walker::warp, ExactLattice, false, false, true>(
+        g, pred, retry_list[k], star, info, owned, counters, budget, WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
 // The emit (scan's offsets -> triangles and neighbours) in two kernels, a thread per site and
@@ -585,6 +676,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<unsigned char> d_temp(scan_bytes, stream);
 
   GridView g = make_grid_view(shape, input.sites.bounds);
+  // The boundary strips (BoundaryStrips) for the searches along the grid's outermost columns and
+  // rows, from 2^16 sites (EXPANSE_CUDA_STRIPS=0: none, for comparisons; =1: at any size, for the
+  // tests); room for either shape the bucketing may choose.
+  const char* strips_env = std::getenv("EXPANSE_CUDA_STRIPS");
+  const bool strips_on = !rings && (strips_env ? std::strcmp(strips_env, "0") != 0 : n >= (std::size_t{1} << 16));
+  StripBuffers strips(strips_on ? std::max(strip_capacity(shape.gx, shape.gy),
+                                           strip_capacity(uniform_shape.gx, uniform_shape.gy))
+                                : 0,
+                      stream);
   // EXPANSE_CUDA_EXACT_LATTICE=0 takes small lattices through the filters and the exact path
   // as any input (for comparisons).
   const char* lattice_env = std::getenv("EXPANSE_CUDA_EXACT_LATTICE");
@@ -598,6 +698,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
   apply_first_box(g, buckets.uniform(), input.sites);
+  if (strips.wanted()) strips.build(g, stream);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
@@ -772,14 +873,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, fork));
         const cudaStream_t es = ctx.edge_stream;
         if (light) {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
-          star_list_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }

@@ -24,6 +24,14 @@ namespace expanse::detail::cuda {
 /// cells (star.comp's big_scan_cells at two sites per cell: ~48 sites' worth of cells).
 inline constexpr int kBigScanCells = 24;
 
+/// Searches along a strip of the grid's two outermost columns or rows (BoundaryStrips) shorter than
+/// this many cells keep their box scans.
+inline constexpr int kStripMinCells = 16;
+
+/// An apex search whose first box (the guess) would span more cells than this starts with the
+/// cells along its edge instead.
+inline constexpr int kLongEdgeCells = 64;
+
 /// A box of cells, bounds inclusive; empty when x0 > x1.
 struct CellBox {
   int x0, y0, x1, y1;
@@ -146,7 +154,21 @@ enum class Walker { thread, warp };
 /// a neighbour from its inbox and takes steps from it. A template parameter for the registers:
 /// the reading compiled into every walk cost the one-phase star kernels 6% (H100, session 15
 /// call 2).
-template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
+///
+/// Strips: an apex search whose region lies in the grid's two outermost columns or rows and runs along
+/// it at least kStripMinCells cells scans that side's strip (BoundaryStrips, g.strips) instead of
+/// boxes, where the strip's prefix is the shorter: the strip's sites in order of the inward key,
+/// up to the region's inner bound, which shrinks with every better candidate. These are the
+/// hull-hugging sites of inputs with straight hull sides (a uniform square): a nearly collinear
+/// run of sites along a side leaves circles whose region is a sliver along the whole side, and
+/// the box scans visited every row of it. Counted on the CPU (4096^2 uniform, one full walk):
+/// the sites over 2^10 units spend 24.4 M of their 26.0 M units in such searches, whose final
+/// regions' strip prefixes hold 3.8 M sites. Only the walks of the grid's edge and the warps'
+/// second pass take it: the sites of the phases' kernels are interior ones, and their registers
+/// are the star kernels' limit. These walks also start a long edge's search along the edge
+/// (kLongEdgeCells).
+template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
+          bool Strips = false>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
                                         const StarInbox& inbox = {}) {
 #if !defined(__CUDACC__)
@@ -197,6 +219,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   int v0 = -1, v = -1;
   unsigned work = 0, predicates = 0;
   SearchBounds bounds;
+  // Strips: the side whose strip is being scanned (-1: boxes), and the last region's bounds.
+  int strip = -1;
+  CircleRegion last_region{};
 
   // The cells where a site better than `best` could lie, with `bounds` set to match.
   auto region_of_best = [&]() {
@@ -213,6 +238,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     } else {
       CircleRegion r;
       if (circle_region(pa, pb, best_p, &r)) {
+        if constexpr (Strips) last_region = r;
         region = cells_of(g, r.x_lo, r.y_lo, r.x_hi, r.y_hi);
         bounds.disc = true;
         bounds.ox = r.ox;
@@ -221,6 +247,38 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       }
     }
     return region;
+  };
+
+  // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
+  // far enough that its prefix up to the region's inner bound is the cheaper scan, with that
+  // prefix's length in *end; else -1. Box scans cost a row a cell along the side plus its
+  // sites (two on quantile cells, 3.5 on uniform ones), so a prefix under two sites a cell wins.
+  auto strip_for = [&](const CellBox& region, std::uint32_t* end) {
+    int side = -1, along = 0;
+    if (region.x1 <= 1 || region.x0 >= g.gx - 2) {
+      side = region.x1 <= 1 ? kStripLeft : kStripRight;
+      along = region.y1 - region.y0 + 1;
+    }
+    if ((region.y1 <= 1 || region.y0 >= g.gy - 2) && region.x1 - region.x0 + 1 > along) {
+      side = region.y1 <= 1 ? kStripBottom : kStripTop;
+      along = region.x1 - region.x0 + 1;
+    }
+    if (side < 0 || along < kStripMinCells) return -1;
+    const double inner = side == kStripLeft    ? last_region.x_hi
+                         : side == kStripRight ? -last_region.x_lo
+                         : side == kStripBottom ? last_region.y_hi
+                                                : -last_region.y_lo;
+    const int prefix = strip_prefix(g.strips, side, strip_key(inner));
+    if (prefix >= 2 * along) return -1;
+    *end = static_cast<std::uint32_t>(prefix);
+    return side;
+  };
+  // The candidate at `slot`: a site id in box scans, the strip's k-th site in strip scans.
+  auto site_at = [&](std::uint32_t k) {
+    if constexpr (Strips) {
+      if (strip >= 0) return load_readonly(g.strips.ids + static_cast<std::size_t>(strip) * g.strips.capacity + k);
+    }
+    return static_cast<int>(k);
   };
 
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
@@ -412,7 +470,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         // A warp fetches the next rows' segments together (rows of a box are often a cell or
         // two wide, too few candidates for 32 lanes one segment at a time).
         if constexpr (By == Walker::warp) {
-          if (slot >= slot_end && !(part == 0 && y >= visited.y0 && y <= visited.y1) && y < target.y1) {
+          if (strip < 0 && slot >= slot_end && !(part == 0 && y >= visited.y0 && y <= visited.y1) &&
+              y < target.y1) {
             batched = true;
             scan_rows_together();
           }
@@ -420,6 +479,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
 #endif
         if (!batched) {
           if (slot >= slot_end) {
+            if (Strips && strip >= 0) break;  // the strip's prefix is scanned
             if (++work > budget) break;
             const bool in_rows = y >= visited.y0 && y <= visited.y1;
             if (part == 0 && in_rows) {
@@ -436,8 +496,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
               ++work;
               double2 p;
               double d2;
-              const int verdict = judge(static_cast<int>(slot), p, d2);
-              if (verdict != 0 && take(static_cast<int>(slot), verdict, p, d2)) break;
+              const int ip = site_at(slot);
+              const int verdict = judge(ip, p, d2);
+              if (verdict != 0 && take(ip, verdict, p, d2)) break;
               if (work > budget) break;
             }
           }
@@ -446,15 +507,17 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
             const unsigned lane = threadIdx.x & 31;
             while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
               const std::uint32_t mine = slot + lane;
-              const LaneTest t = test_lanes(mine < slot_end, mine, slot_end - slot);
+              const bool valid = mine < slot_end;
+              const LaneTest t = test_lanes(valid, valid ? static_cast<std::uint32_t>(site_at(mine)) : mine,
+                                            slot_end - slot);
               work += t.seen;
               if (t.first < 0) {
                 slot += t.seen;
                 if (work > budget) break;
                 continue;
               }
-              const int ip = static_cast<int>(slot) + t.first;
-              slot = static_cast<std::uint32_t>(ip);
+              slot += static_cast<std::uint32_t>(t.first);
+              const int ip = site_at(slot);
               if (take(ip, t.verdict, t.p, t.d2)) break;
               ++slot;
               if (work > budget) break;
@@ -468,6 +531,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
           // (regions only shrink). Rows already scanned were scanned wider: no harm.
           narrow = false;
           const CellBox region = region_of_best();
+          if (Strips && strip >= 0) {
+            // The strip's prefix shrinks to the better candidate's region.
+            std::uint32_t end = slot_end;
+            if (strip_for(region, &end) == strip) slot_end = min(slot_end, end);
+            continue;
+          }
           const CellBox keep = visited.x0 > visited.x1
                                    ? region
                                    : CellBox{min(visited.x0, region.x0), min(visited.y0, region.y0),
@@ -479,23 +548,35 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       }
       if (work > budget || pending >= 0) break;
 
-      // The target box is scanned.
-      visited = target;
+      // The target box is scanned, or the strip (whose prefix holds the whole region).
       bool found = false;
-      if (best < 0) {
-        if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
-          reason = DeferReason::no_apex;
-          phase = deferred;
-          break;
-        }
-        const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
-        target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
-                  min(visited.y1 + grow_y, whole.y1)};
+      if (Strips && strip >= 0) {
+        strip = -1;
+        found = true;
       } else {
-        const CellBox region = region_of_best();
-        found = given || box_inside(region, visited);
-        given = false;
-        {
+        visited = target;
+        if (best < 0) {
+          if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
+            reason = DeferReason::no_apex;
+            phase = deferred;
+            break;
+          }
+          const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
+          target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
+                    min(visited.y1 + grow_y, whole.y1)};
+        } else {
+          const CellBox region = region_of_best();
+          found = given || box_inside(region, visited);
+          given = false;
+          if constexpr (Strips) {
+            std::uint32_t end = 0;
+            if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
+              slot = 0;
+              slot_end = end;
+              big_scan = true;  // a better candidate narrows the prefix (take, then `narrow`)
+              continue;
+            }
+          }
           // Towards the region, by at most half the visited box per side: nearer candidates
           // come first and shrink the region (a far region is often a poor early candidate's).
           const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
@@ -567,6 +648,15 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
       const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
       target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
+      // A long edge (its box over kLongEdgeCells cells) along the side of a grid of equal cells
+      // first scans the cells along it: such an edge runs beside a straight hull side, where the
+      // empty circle is a sliver along the edge, and the guess's box, as wide as the edge is
+      // long, held thousands of sites inside the hull. (Quantile cells' outer rows hold a
+      // clustered input's sparse tails, whose long edges are no slivers.)
+      if (Strips && g.strips.ids && !g.xb && box_cells(target) > kLongEdgeCells) {
+        const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
+        if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
+      }
       y = target.y0 - 1;
       big_scan = box_cells(target) > kBigScanCells;
     }
@@ -593,7 +683,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
       best_p = load_site(g.points, ip);
       best_d2 = dist2(ps, best_p);
     }
-    slot = static_cast<std::uint32_t>(ip) + 1;
+    slot = (Strips && strip >= 0) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
   }
   w.predicates = predicates;
@@ -619,11 +709,12 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
   return search == StarSearch::boxes ? 1u << 16 : 1u << 14;
 }
 
-template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
+template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
+          bool Strips = false>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget,
                                            const StarInbox& inbox = {}) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox>(g, pred, i, row, budget, inbox);
+    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   else
     return walk_star(g, pred, i, row, budget);
 }

@@ -7,11 +7,12 @@
 // candidate or for running past B, and its predicates. With --by-occupancy, the sites' share and
 // work split by how many sites their cell holds. With --emit-views, how many stars the emit's
 // links read (StarView loads), a thread a triangle (the kernel) against a thread a site linking
-// the triangles it owns, and what lock-step warps of 32 make of each.
+// the triangles it owns, and what lock-step warps of 32 make of each. With --strips, the walks
+// scan the grid's boundary strips where those are shorter (BoundaryStrips).
 //
 //   expanse-bench-star-work [--n 1e6,4e6] [--dist uniform,gaussian,kuzmin] [--grid quantile,uniform]
 //                           [--search boxes,rings] [--budget N] [--first-pass B] [--threads 2]
-//                           [--by-occupancy] [--emit-views] [-o FILE.jsonl] [--note TEXT]
+//                           [--by-occupancy] [--emit-views] [--strips] [-o FILE.jsonl] [--note TEXT]
 // Records carry the machine, commit and date like expanse-bench's; bench/report.py tabulates them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -115,6 +116,7 @@ int main(int argc, char** argv) {
   unsigned first_pass = 0;  // 0: not counted
   bool by_occupancy = false;
   bool emit_views = false;
+  bool strips = false;
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   double sites_per_bucket = 2.0;
   app.add_option("--n", sizes, "numbers of points (1e6, 4096^2, ...)")->delimiter(',');
@@ -133,6 +135,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 2}));
   app.add_flag("--by-occupancy", by_occupancy,
                "also split the sites by how many sites their cell holds: share of sites and work a site per class");
+  app.add_flag("--strips", strips,
+               "walk with the grid's boundary strips (the kernels' edge walks and second pass; BoundaryStrips)");
   app.add_flag("--emit-views", emit_views,
                "also count the stars the emit's links read, a thread a triangle against a thread a site");
   CLI11_PARSE(app, argc, argv);
@@ -150,13 +154,14 @@ int main(int argc, char** argv) {
       for (const std::string& grid : grids) for (const std::string& search : searches) for (const int phases : phase_counts) {
         using expanse::detail::cuda::StarSearch;
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
+        layout.use_strips(strips);
         const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
         const auto t = layout.walk_all(budget, threads, kind, phases == 2);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},
             {"distribution", dist}, {"n", n}, {"sites", t.sites},
-            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"phases", phases},
+            {"grid", grid}, {"search", search}, {"budget", budget ? budget : expanse::detail::cuda::default_budget(kind)}, {"sites_per_bucket", sites_per_bucket}, {"phases", phases}, {"strips", strips},
             {"predicates_per_site", double(t.predicates) / double(t.sites)},
             {"work_per_site", double(t.work) / double(t.sites)}, {"max_work", t.max_work},
             {"lane_share_8", double(t.work) / (8.0 * double(t.lockstep_work_8))},

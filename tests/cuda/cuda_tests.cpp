@@ -306,6 +306,23 @@ int main(int argc, char** argv) {
   unsetenv("EXPANSE_CUDA_INBOX_FIRST");
   unsetenv("EXPANSE_CUDA_PHASES");
 
+  // The boundary strips (BoundaryStrips): at any size, so that the sanitizers' small cases take
+  // them too (hull-hugging sites of a uniform square, in the edge's first pass and the warps'
+  // second), and switched off.
+  for (const char* strips : {"1", "0"}) {
+    setenv("EXPANSE_CUDA_STRIPS", strips, 1);
+    const std::string label = std::string("boundary strips ") + (*strips == '1' ? "on" : "off") + ": ";
+    grow_case(*backend, label + "uniform 20000", generate_points("uniform", 20000, 5), per_site, false, false);
+    setenv("EXPANSE_CUDA_FIRST_BUDGET", "8", 1);
+    grow_case(*backend, label + "first-pass budget 8, uniform 1500", generate_points("uniform", 1500, 3), per_site, true,
+              false);
+    unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
+    if (small) continue;
+    grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
+    grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
+  }
+  unsetenv("EXPANSE_CUDA_STRIPS");
+
   // The work budget defers runaway sites, and its counters read back (they once read garbage).
   {
     const std::string test = "work budget 40, uniform n=20000";

@@ -42,13 +42,14 @@ struct Family {
 const char* name_of(cuda::StarSearch search) { return search == cuda::StarSearch::boxes ? "boxes" : "rings"; }
 
 cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::StarSearch search,
-                                  bool two_phases = false) {
+                                  bool two_phases = false, bool strips = false) {
   const std::vector<Point2> points = family.make(family.n, 5);
   const SiteSet sites = prepare_sites(points);
   const Hull hull = convex_hull(sites);
   REQUIRE(!hull.collinear);
   cuda::HostStarLayout layout(sites, hull, 2.0, quantile);
   layout.verify_inbox_walks(two_phases);
+  layout.use_strips(strips);
   const cuda::StarWorkTotals totals = layout.walk_all(0, 1, search, two_phases);
   // A star taken whole from the inbox is the star the full walk makes.
   if (two_phases) CHECK(totals.inbox_walk_mismatches == 0);
@@ -133,6 +134,9 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
             const cuda::StarWorkTotals phased = check_family(family, quantile, search, true);
             if (alone.deferred == 0) CHECK(phased.predicates < alone.predicates);
             if (alone.deferred == 0) CHECK(phased.from_inbox > 0);  // stars taken whole from inboxes
+            // The boundary strips (the edge's walks and the second pass) change which sites a
+            // search tests, never the star (check_family compares it with CGAL's).
+            check_family(family, quantile, search, false, true);
           }
         }
       }
@@ -290,6 +294,39 @@ TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overfl
     CHECK(most == totals.max_work);
     CHECK(std::abs(cells - std::round(cells)) < 1e-6);
     CHECK(std::round(cells) <= static_cast<double>(sites.points.size()));
+  }
+}
+
+TEST_CASE("CUDA star walk on the CPU: boundary strips make the box scans' stars for far less hull-hugging work",
+          "[cuda][star]") {
+  // A uniform square's hull-hugging sites: nearly collinear runs along a side leave circles whose
+  // region is a sliver along the whole side. Box scans visit every row of it; the strip (the
+  // side's sites by inward coordinate) only those up to the region's inner bound.
+  const std::vector<Point2> points = test::points::uniform(100000, 13);
+  const SiteSet sites = prepare_sites(points);
+  const Hull hull = convex_hull(sites);
+  for (const bool quantile : {true, false}) {
+    cuda::HostStarLayout boxes(sites, hull, 2.0, quantile), strips(sites, hull, 2.0, quantile);
+    strips.use_strips(true);
+    const cuda::StarWorkTotals by_boxes = boxes.walk_all(0, 2), by_strips = strips.walk_all(0, 2);
+    INFO((quantile ? "quantile" : "uniform") << " grid: max work " << by_boxes.max_work << " -> " << by_strips.max_work
+                                             << ", total " << by_boxes.work << " -> " << by_strips.work);
+    REQUIRE(by_boxes.deferred == 0);
+    CHECK(by_strips.deferred == 0);
+    int differing = 0;
+    for (std::size_t i = 0; i < boxes.site_count(); ++i) {
+      const std::uint32_t info = boxes.star_info_of(i);
+      bool same = strips.star_info_of(i) == info;
+      for (int t = 0; same && t < cuda::star_degree(info); ++t)
+        same = cuda::star_at(boxes.star_rows(), info, static_cast<int>(i), t) ==
+               cuda::star_at(strips.star_rows(), info, static_cast<int>(i), t);
+      differing += !same;
+    }
+    CHECK(differing == 0);
+    CHECK(by_strips.work < by_boxes.work);
+    // The costliest site is a hull-hugging one; on equal cells its long edges along the hull also
+    // start with the cells along them (kLongEdgeCells).
+    CHECK((quantile ? 1 : 2) * by_strips.max_work < by_boxes.max_work);
   }
 }
 
