@@ -122,14 +122,14 @@ __global__ void edge_list_kernel(EdgeCells edge, int n, int* list, unsigned int*
 }
 
 /// The grid's boundary strips (BoundaryStrips), unsorted: block s gathers side s's sites in
-/// cell order (its cells in order, a cell's sites in order) with their keys, pads the side's
-/// room with keys above every key, and sets length[s] (0 where the room is too small) and the
-/// segment offsets for the sort. Cell order makes the sorted strips, and so the walks' work, the
-/// same every run (the sort is stable).
+/// cell order (its cells in order, a cell's sites in order) with their keys, and sets length[s]
+/// (0 where the room is too small) and the sort's segment of side s, [bounds[s], bounds[4 + s]).
+/// Cell order makes the sorted strips, and so the walks' work, the same every run (the sort is
+/// stable).
 constexpr int kStripThreads = 1024;
 __global__ void __launch_bounds__(kStripThreads) boundary_strips_kernel(GridView g, int capacity,
                                                                         std::uint32_t* keys, int* ids, int* length,
-                                                                        int* offsets) {
+                                                                        int* bounds) {
   using Scan = cub::BlockScan<int, kStripThreads>;
   __shared__ typename Scan::TempStorage scan;
   __shared__ int base;
@@ -159,37 +159,36 @@ __global__ void __launch_bounds__(kStripThreads) boundary_strips_kernel(GridView
     if (threadIdx.x == 0) base += total;
     __syncthreads();
   }
-  for (int k = base + static_cast<int>(threadIdx.x); k < capacity; k += kStripThreads) {
-    side_keys[k] = 0xffffffffu;
-    side_ids[k] = -1;
-  }
   if (threadIdx.x == 0) {
     length[s] = base <= capacity ? base : 0;
-    offsets[s] = s * capacity;
-    if (s == 3) offsets[4] = 4 * capacity;
+    bounds[s] = s * capacity;
+    bounds[4 + s] = s * capacity + length[s];
   }
 }
 
-/// The strips' arrays, room for `room` sites a side (0: no strips), sorted on build.
+/// The strips' arrays, room for `room` sites a side (0: no strips).
 class StripBuffers {
  public:
   StripBuffers(int room, cudaStream_t stream)
       : room_(room), keys_(4 * static_cast<std::size_t>(room), stream), sorted_keys_(keys_.size(), stream),
         ids_(keys_.size(), stream), sorted_ids_(keys_.size(), stream), length_(room > 0 ? 4 : 0, stream),
-        offsets_(room > 0 ? 5 : 0, stream), temp_(sort_bytes(room, stream), stream) {}
-  bool wanted() const { return room_ > 0; }
-  /// Gathers and sorts the strips of g's grid (its cells bucketed) and sets g.strips.
-  void build(GridView& g, cudaStream_t stream) {
-    const int capacity = strip_capacity(g.gx, g.gy);
-    if (capacity > room_ || !strips_fit(g.gx, g.gy)) return;  // no strips
-    boundary_strips_kernel<<<4, kStripThreads, 0, stream>>>(g, capacity, keys_.get(), ids_.get(), length_.get(),
-                                                           offsets_.get());
+        bounds_(room > 0 ? 8 : 0, stream), temp_(sort_bytes(room, stream), stream) {}
+  /// Points g.strips at the arrays for g's grid, if it has room for them: then build() fills them.
+  bool prepare(GridView& g) {
+    capacity_ = strip_capacity(g.gx, g.gy);
+    if (room_ == 0 || capacity_ > room_ || !strips_fit(g.gx, g.gy)) return false;
+    g.strips = {sorted_keys_.get(), sorted_ids_.get(), length_.get(), capacity_};
+    return true;
+  }
+  /// Gathers and sorts the strips of g's grid (its cells bucketed), on `stream`.
+  void build(const GridView& g, cudaStream_t stream) {
+    boundary_strips_kernel<<<4, kStripThreads, 0, stream>>>(g, capacity_, keys_.get(), ids_.get(), length_.get(),
+                                                           bounds_.get());
     EXPANSE_CUDA(cudaGetLastError());
     std::size_t bytes = temp_.bytes();
     EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(temp_.get(), bytes, keys_.get(), sorted_keys_.get(),
-                                                          ids_.get(), sorted_ids_.get(), 4 * capacity, 4,
-                                                          offsets_.get(), offsets_.get() + 1, 0, 32, stream));
-    g.strips = {sorted_keys_.get(), sorted_ids_.get(), length_.get(), capacity};
+                                                          ids_.get(), sorted_ids_.get(), 4 * capacity_, 4,
+                                                          bounds_.get(), bounds_.get() + 4, 0, 32, stream));
   }
 
  private:
@@ -203,9 +202,9 @@ class StripBuffers {
                                                           static_cast<int*>(nullptr), 0, 32, stream));
     return bytes;
   }
-  int room_;
+  int room_, capacity_ = 0;
   DeviceArray<std::uint32_t> keys_, sorted_keys_;
-  DeviceArray<int> ids_, sorted_ids_, length_, offsets_;
+  DeviceArray<int> ids_, sorted_ids_, length_, bounds_;
   DeviceArray<unsigned char> temp_;
 };
 
@@ -698,7 +697,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
   apply_first_box(g, buckets.uniform(), input.sites);
-  if (strips.wanted()) strips.build(g, stream);
+  // Strips for grids of equal cells over inputs that are no small lattice: a uniform square's
+  // hull-hugging sites. Quantile cells' outer rows and columns hold a clustered input's sparse
+  // tails, where the strips' scattered reads lost: kuzmin 4096^2 GPU-only 66.7 -> 69.6 ms, the
+  // edge's stream 45 -> 57 ms (session 24 call 3). A lattice gained nothing (its hull sides hold
+  // sites, no slivers) and paid the build.
+  const bool strip_walks = buckets.uniform() && !exact_lattice && strips.prepare(g);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
@@ -862,8 +866,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr int later_b = decltype(later_blocks)::value;
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
-      cudaEvent_t fork = nullptr, join = nullptr;
+      cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr;
       timeline.mark("start", stream);
+      // The strips serve the edge's walks and the warps' second pass: built on the edge's stream,
+      // beside the first phase, which needs none (session 24 call 3: 0.22 ms of the bucket
+      // stage at 4096^2 uniform, on the main stream), or here without an edge stream.
+      if (strip_walks && !edge.keys) strips.build(g, stream);
       auto launch_edge = [&] {
         if (!edge.keys) return;
         edge_list_kernel<<<blocks_for(n), kThreads, 0, stream>>>(edge, static_cast<int>(n), edge_sites, edge_counts);
@@ -872,6 +880,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaEventRecord(fork, stream));
         EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, fork));
         const cudaStream_t es = ctx.edge_stream;
+        if (strip_walks) {
+          strips.build(g, es);
+          EXPANSE_CUDA(cudaEventCreateWithFlags(&stripped, cudaEventDisableTiming));
+          EXPANSE_CUDA(cudaEventRecord(stripped, es));
+        }
         if (light) {
           star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
@@ -931,6 +944,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                     star_kernel<StarSearch::boxes, later_b, exact, false, true>,
                     star_list_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
+      if (stripped) EXPANSE_CUDA(cudaStreamWaitEvent(stream, stripped));
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, first_b, exact><<<list_blocks_n, list_threads, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
@@ -942,6 +956,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaEventDestroy(fork));
         EXPANSE_CUDA(cudaEventDestroy(join));
       }
+      if (stripped) EXPANSE_CUDA(cudaEventDestroy(stripped));
     };
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
     constexpr std::integral_constant<int, 6> six{};
