@@ -166,46 +166,55 @@ __global__ void __launch_bounds__(kStripThreads) boundary_strips_kernel(GridView
   }
 }
 
-/// The strips' arrays, room for `room` sites a side (0: no strips).
+/// The strips' arrays, in memory the bucketing no longer needs (its unsorted keys and ids: n
+/// words each). No allocation of their own: one array more, allocated per triangulation, has
+/// moved the bucketing of clustered inputs by a millisecond (kuzmin 4096^2 1.6 -> 2.7 ms, session
+/// 24 call 4; session 22 saw the same), the pool placing its arrays elsewhere.
 class StripBuffers {
  public:
-  StripBuffers(int room, cudaStream_t stream)
-      : room_(room), keys_(4 * static_cast<std::size_t>(room), stream), sorted_keys_(keys_.size(), stream),
-        ids_(keys_.size(), stream), sorted_ids_(keys_.size(), stream), length_(room > 0 ? 4 : 0, stream),
-        bounds_(room > 0 ? 8 : 0, stream), temp_(sort_bytes(room, stream), stream) {}
-  /// Points g.strips at the arrays for g's grid, if it has room for them: then build() fills them.
-  bool prepare(GridView& g) {
+  StripBuffers(std::uint32_t* key_words, int* id_words, std::size_t words)
+      : key_words_(key_words), id_words_(id_words), words_(words) {}
+  /// Points g.strips at the arrays for g's grid where they fit: then build() fills them.
+  bool prepare(GridView& g, cudaStream_t stream) {
+    if (!strips_fit(g.gx, g.gy)) return false;
     capacity_ = strip_capacity(g.gx, g.gy);
-    if (room_ == 0 || capacity_ > room_ || !strips_fit(g.gx, g.gy)) return false;
-    g.strips = {sorted_keys_.get(), sorted_ids_.get(), length_.get(), capacity_};
+    const std::size_t room = 4 * static_cast<std::size_t>(capacity_);
+    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(nullptr, temp_bytes_, static_cast<std::uint32_t*>(nullptr),
+                                                          static_cast<std::uint32_t*>(nullptr),
+                                                          static_cast<int*>(nullptr), static_cast<int*>(nullptr),
+                                                          static_cast<int>(room), 4, static_cast<int*>(nullptr),
+                                                          static_cast<int*>(nullptr), 0, 32, stream));
+    const std::size_t temp_words = (temp_bytes_ + 255) / 4 + 64;  // aligned to 256 bytes within
+    if (2 * room + temp_words > words_ || 2 * room + 12 > words_) return false;
+    keys_ = key_words_;
+    sorted_keys_ = key_words_ + room;
+    temp_ = reinterpret_cast<unsigned char*>(
+        (reinterpret_cast<std::uintptr_t>(key_words_ + 2 * room) + 255) & ~std::uintptr_t{255});
+    ids_ = id_words_;
+    sorted_ids_ = id_words_ + room;
+    length_ = id_words_ + 2 * room;
+    bounds_ = length_ + 4;
+    g.strips = {sorted_keys_, sorted_ids_, length_, capacity_};
     return true;
   }
   /// Gathers and sorts the strips of g's grid (its cells bucketed), on `stream`.
   void build(const GridView& g, cudaStream_t stream) {
-    boundary_strips_kernel<<<4, kStripThreads, 0, stream>>>(g, capacity_, keys_.get(), ids_.get(), length_.get(),
-                                                           bounds_.get());
+    boundary_strips_kernel<<<4, kStripThreads, 0, stream>>>(g, capacity_, keys_, ids_, length_, bounds_);
     EXPANSE_CUDA(cudaGetLastError());
-    std::size_t bytes = temp_.bytes();
-    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(temp_.get(), bytes, keys_.get(), sorted_keys_.get(),
-                                                          ids_.get(), sorted_ids_.get(), 4 * capacity_, 4,
-                                                          bounds_.get(), bounds_.get() + 4, 0, 32, stream));
+    std::size_t bytes = temp_bytes_;
+    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(temp_, bytes, keys_, sorted_keys_, ids_, sorted_ids_,
+                                                          4 * capacity_, 4, bounds_, bounds_ + 4, 0, 32, stream));
   }
 
  private:
-  static std::size_t sort_bytes(int room, cudaStream_t stream) {
-    if (room == 0) return 0;
-    std::size_t bytes = 0;
-    EXPANSE_CUDA(cub::DeviceSegmentedRadixSort::SortPairs(nullptr, bytes, static_cast<std::uint32_t*>(nullptr),
-                                                          static_cast<std::uint32_t*>(nullptr),
-                                                          static_cast<int*>(nullptr), static_cast<int*>(nullptr),
-                                                          4 * room, 4, static_cast<int*>(nullptr),
-                                                          static_cast<int*>(nullptr), 0, 32, stream));
-    return bytes;
-  }
-  int room_, capacity_ = 0;
-  DeviceArray<std::uint32_t> keys_, sorted_keys_;
-  DeviceArray<int> ids_, sorted_ids_, length_, bounds_;
-  DeviceArray<unsigned char> temp_;
+  std::uint32_t* key_words_;
+  int* id_words_;
+  std::size_t words_;
+  int capacity_ = 0;
+  std::size_t temp_bytes_ = 0;
+  std::uint32_t *keys_ = nullptr, *sorted_keys_ = nullptr;
+  int *ids_ = nullptr, *sorted_ids_ = nullptr, *length_ = nullptr, *bounds_ = nullptr;
+  unsigned char* temp_ = nullptr;
 };
 
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false>
@@ -311,7 +320,7 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
 /// divergent searches serialised; one site per warp on one thread still lost (285 against 228
 /// ms), a heavy site's walk being a chain of dependent loads that one thread runs at ~1 us per
 /// candidate.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false>
+template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool Strips = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
@@ -319,7 +328,7 @@ __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, 
   const unsigned sites = *count;
   const unsigned warps = gridDim.x * (blockDim.x / 32);
   for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
-    walk_and_record<Search, Walker::warp, ExactLattice, false, false, true>(
+    walk_and_record<Search, Walker::warp, ExactLattice, false, false, Strips>(
         g, pred, retry_list[k], star, info, owned, counters, budget, WalkPass::retry, nullptr, nullptr, nullptr);
 }
 
@@ -675,15 +684,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<unsigned char> d_temp(scan_bytes, stream);
 
   GridView g = make_grid_view(shape, input.sites.bounds);
-  // The boundary strips (BoundaryStrips) for the searches along the grid's outermost columns and
+  // The boundary strips (BoundaryStrips) for the searches along the grid's outer columns and
   // rows, from 2^16 sites (EXPANSE_CUDA_STRIPS=0: none, for comparisons; =1: at any size, for the
-  // tests); room for either shape the bucketing may choose.
+  // tests).
   const char* strips_env = std::getenv("EXPANSE_CUDA_STRIPS");
   const bool strips_on = !rings && (strips_env ? std::strcmp(strips_env, "0") != 0 : n >= (std::size_t{1} << 16));
-  StripBuffers strips(strips_on ? std::max(strip_capacity(shape.gx, shape.gy),
-                                           strip_capacity(uniform_shape.gx, uniform_shape.gy))
-                                : 0,
-                      stream);
+  StripBuffers strips(buckets.keys.get(), buckets.ids.get(), n);
   // EXPANSE_CUDA_EXACT_LATTICE=0 takes small lattices through the filters and the exact path
   // as any input (for comparisons).
   const char* lattice_env = std::getenv("EXPANSE_CUDA_EXACT_LATTICE");
@@ -702,7 +708,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // tails, where the strips' scattered reads lost: kuzmin 4096^2 GPU-only 66.7 -> 69.6 ms, the
   // edge's stream 45 -> 57 ms (session 24 call 3). A lattice gained nothing (its hull sides hold
   // sites, no slivers) and paid the build.
-  const bool strip_walks = buckets.uniform() && !exact_lattice && strips.prepare(g);
+  const bool strip_walks = strips_on && buckets.uniform() && !exact_lattice && strips.prepare(g, stream);
   EXPANSE_CUDA(cudaMemsetAsync(d_pred.get(), 0xff, d_pred.bytes(), stream));
   if (!input.hull.sites.empty()) {
     hull_predecessor_kernel<<<blocks_for(input.hull.sites.size()), kThreads, 0, stream>>>(
@@ -861,11 +867,15 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // calls 1-2, whatever the kernels; why was not found, the pool's placement of the bucketing's
     // arrays most likely).
     int* const d_search = d_offset.get() + 1;
-    auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice) {
+    // with_strips: the edge's walks and the warps' second pass compiled with the strips' scans
+    // (walk_star_boxes' Strips), where strips are built; else without (their code alone, unused,
+    // slowed kuzmin's edge stream: session 24 call 4).
+    auto walk_passes = [&](auto first_blocks, auto later_blocks, auto edge_blocks, auto lattice, auto with_strips) {
       constexpr int first_b = decltype(first_blocks)::value;
       constexpr int later_b = decltype(later_blocks)::value;
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
+      constexpr bool striped = decltype(with_strips)::value;
       cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr;
       timeline.mark("start", stream);
       // The strips serve the edge's walks and the warps' second pass: built on the edge's stream,
@@ -886,19 +896,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           EXPANSE_CUDA(cudaEventRecord(stripped, es));
         }
         if (light) {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, true><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
-        star_retry_kernel<StarSearch::boxes, edge_b, exact><<<edge_blocks_n, edge_threads, 0, es>>>(
+        star_retry_kernel<StarSearch::boxes, edge_b, exact, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", es);
@@ -946,7 +956,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       }
       if (stripped) EXPANSE_CUDA(cudaStreamWaitEvent(stream, stripped));
       if (two_passes)
-        star_retry_kernel<StarSearch::boxes, first_b, exact><<<list_blocks_n, list_threads, 0, stream>>>(
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<list_blocks_n, list_threads, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
             d_retry.get(),
             d_counters.get() + 7);
@@ -961,11 +971,16 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
     constexpr std::integral_constant<int, 6> six{};
     if (exact_lattice)
-      walk_passes(six, six, six, std::true_type{});
+      walk_passes(six, six, six, std::true_type{}, std::false_type{});  // lattices take no strips
     else
       with_star_blocks(star_blocks.first, [&](auto first) {
         with_star_blocks(star_blocks.later, [&](auto later) {
-          with_star_blocks(star_blocks.edge, [&](auto edge_b) { walk_passes(first, later, edge_b, std::false_type{}); });
+          with_star_blocks(star_blocks.edge, [&](auto edge_b) {
+            if (strip_walks)
+              walk_passes(first, later, edge_b, std::false_type{}, std::true_type{});
+            else
+              walk_passes(first, later, edge_b, std::false_type{}, std::false_type{});
+          });
         });
       });
   }
