@@ -109,11 +109,12 @@ struct QuantileGuide {
 
 /// The grid's two outermost columns and rows on each side, their sites in order of a key that
 /// grows inwards: the left strip (columns 0 and 1) by x, the right (the last two columns) by -x,
-/// the bottom (rows 0 and 1) by y, the top (the last two rows) by -y. A search whose region lies in one of them and runs along it
-/// (hull-hugging sites beside a straight side of the hull: circles through nearly collinear
-/// sites, whose region is a sliver along the whole side) tests only the strip's sites up to the
-/// region's inner bound instead of every row of the side (star_scan.cuh). Built by
-/// boundary_strips_kernel (star_kernels.cu) or the host mirror (star_host.hpp); no strip: ids null.
+/// the bottom (rows 0 and 1) by y, the top (the last two rows) by -y. A search whose region lies
+/// in one of them and runs along it (hull-hugging sites beside a straight side of the hull:
+/// circles through nearly collinear sites, whose region is a sliver along the whole side) tests
+/// only the strip's sites up to the region's inner bound instead of every row of the side
+/// (star_scan.cuh). Built by boundary_strips_kernel (star_kernels.cu) or the host mirror
+/// (star_host.hpp); no strips: ids null.
 enum StripSide : int { kStripLeft = 0, kStripRight = 1, kStripBottom = 2, kStripTop = 3 };
 struct BoundaryStrips {
   const std::uint32_t* keys = nullptr;  ///< side s: keys[s * capacity + k], ascending (strip_key)
@@ -139,7 +140,9 @@ EXPANSE_HOST_DEVICE std::uint32_t strip_key(double c) {
 EXPANSE_HOST_DEVICE int strip_capacity(int gx, int gy) { return 16 * (gx > gy ? gx : gy); }
 EXPANSE_HOST_DEVICE bool strips_fit(int gx, int gy) { return gx >= 4 && gy >= 4; }
 /// The cells of side s, and the j-th of them (in cell order, as the strip gathers its sites).
-EXPANSE_HOST_DEVICE int strip_cells(int s, int gx, int gy) { return 2 * (s == kStripLeft || s == kStripRight ? gy : gx); }
+EXPANSE_HOST_DEVICE int strip_cells(int s, int gx, int gy) {
+  return 2 * (s == kStripLeft || s == kStripRight ? gy : gx);
+}
 EXPANSE_HOST_DEVICE int strip_cell(int s, int j, int gx, int gy) {
   return s == kStripLeft    ? (j >> 1) * gx + (j & 1)
          : s == kStripRight ? (j >> 1) * gx + gx - 2 + (j & 1)

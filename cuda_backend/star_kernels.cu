@@ -780,17 +780,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   const bool first_full = (first_walk_env && std::strcmp(first_walk_env, "full") == 0) ||
                           (input.sites.integer_coordinates && !exact_lattice);
   const int retry_blocks = 8 * ctx.multiprocessors;
-  // Experiment: EXPANSE_CUDA_EDGE_THREADS (32, 64 or 128) sets the edge stream's blocks, and
-  // EXPANSE_CUDA_LIST_THREADS the main stream's lists' (undecided, retry), as many threads in all.
-  auto block_threads = [](const char* name) {
-    const char* env = std::getenv(name);
-    const int t = env ? std::atoi(env) : 128;
-    return t == 32 || t == 64 ? t : 128;
-  };
-  const int edge_threads = block_threads("EXPANSE_CUDA_EDGE_THREADS");
-  const int edge_blocks_n = retry_blocks * (128 / edge_threads);
-  const int list_threads = block_threads("EXPANSE_CUDA_LIST_THREADS");
-  const int list_blocks_n = retry_blocks * (128 / list_threads);
   DeviceArray<int> d_undecided(two_passes && !first_full ? n : 0, stream);
   const WalkPass pass = two_passes ? WalkPass::first : WalkPass::only;
   const unsigned pass_budget = two_passes ? first_budget : budget;
@@ -821,8 +810,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     int* const edge_retry = edge_depth > 0 ? edge_sites + n : nullptr;
     int* const edge_undecided = edge_depth > 0 ? edge_sites + 2 * n : nullptr;
     unsigned int* const edge_counts = d_counters.get() + 9;
-    // Experiments: EXPANSE_CUDA_EDGE_FIRST_BUDGET sets the edge's first pass's budget apart;
-    // EXPANSE_CUDA_EDGE_AFTER=phase0 starts the edge's stream after the first phase.
+    // For comparisons: EXPANSE_CUDA_EDGE_FIRST_BUDGET sets the edge's first pass's budget apart;
+    // EXPANSE_CUDA_EDGE_AFTER=phase0 starts the edge's stream after the first phase, which shows
+    // what the edge's walks cost the first phase beside them (session 24 call 1, 4096^2: uniform's
+    // first phase 22.72 -> 20.31 ms, kuzmin's 39.47 -> 36.15, though the edge then ends last).
+    // The edge's kernels in blocks of one or two warps instead of four, so that a finished warp
+    // frees its slot, did not move it (call 2).
     const char* edge_first_env = std::getenv("EXPANSE_CUDA_EDGE_FIRST_BUDGET");
     const unsigned edge_budget =
         edge_first_env ? std::min(budget, static_cast<unsigned>(std::strtoul(edge_first_env, nullptr, 10))) : pass_budget;
@@ -896,19 +889,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           EXPANSE_CUDA(cudaEventRecord(stripped, es));
         }
         if (light) {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
               edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
         } else {
-          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
+          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
-        star_retry_kernel<StarSearch::boxes, edge_b, exact, striped><<<edge_blocks_n, edge_threads, 0, es>>>(
+        star_retry_kernel<StarSearch::boxes, edge_b, exact, striped><<<retry_blocks, 128, 0, es>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", es);
@@ -945,7 +938,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
                     star_kernel<StarSearch::boxes, later_b, exact, true, true>,
                     star_list_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
-        star_list_kernel<StarSearch::boxes, first_b, exact><<<list_blocks_n, list_threads, 0, stream>>>(
+        star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
@@ -956,7 +949,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       }
       if (stripped) EXPANSE_CUDA(cudaStreamWaitEvent(stream, stripped));
       if (two_passes)
-        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<list_blocks_n, list_threads, 0, stream>>>(
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
             d_retry.get(),
             d_counters.get() + 7);

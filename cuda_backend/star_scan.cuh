@@ -155,18 +155,18 @@ enum class Walker { thread, warp };
 /// the reading compiled into every walk cost the one-phase star kernels 6% (H100, session 15
 /// call 2).
 ///
-/// Strips: an apex search whose region lies in the grid's two outermost columns or rows and runs along
-/// it at least kStripMinCells cells scans that side's strip (BoundaryStrips, g.strips) instead of
-/// boxes, where the strip's prefix is the shorter: the strip's sites in order of the inward key,
+/// Strips: an apex search whose region lies in the grid's two outermost columns or rows and runs
+/// along them at least kStripMinCells cells scans that side's strip (BoundaryStrips, g.strips)
+/// instead of boxes, where the strip's prefix is the shorter: the strip's sites in order of the inward key,
 /// up to the region's inner bound, which shrinks with every better candidate. These are the
 /// hull-hugging sites of inputs with straight hull sides (a uniform square): a nearly collinear
 /// run of sites along a side leaves circles whose region is a sliver along the whole side, and
 /// the box scans visited every row of it. Counted on the CPU (4096^2 uniform, one full walk):
 /// the sites over 2^10 units spend 24.4 M of their 26.0 M units in such searches, whose final
 /// regions' strip prefixes hold 3.8 M sites. Only the walks of the grid's edge and the warps'
-/// second pass take it: the sites of the phases' kernels are interior ones, and their registers
-/// are the star kernels' limit. These walks also start a long edge's search along the edge
-/// (kLongEdgeCells).
+/// second pass take it, on grids of equal cells (star_kernels.cu): the sites of the phases'
+/// kernels are interior ones, and their registers are the star kernels' limit. These walks also
+/// start a long edge's search along the edge (kLongEdgeCells).
 template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
           bool Strips = false>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
