@@ -308,7 +308,7 @@ int main(int argc, char** argv) {
 
   // The boundary strips (BoundaryStrips): at any size, so that the sanitizers' small cases take
   // them too (hull-hugging sites of a uniform square, in the edge's first pass and the warps'
-  // second), and switched off.
+  // second), and switched off. Kuzmin's quantile cells take none, forced or not.
   for (const char* strips : {"1", "0"}) {
     setenv("EXPANSE_CUDA_STRIPS", strips, 1);
     const std::string label = std::string("boundary strips ") + (*strips == '1' ? "on" : "off") + ": ";
