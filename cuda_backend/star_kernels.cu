@@ -184,8 +184,10 @@ class StripBuffers {
                                                           static_cast<int*>(nullptr), static_cast<int*>(nullptr),
                                                           static_cast<int>(room), 4, static_cast<int*>(nullptr),
                                                           static_cast<int*>(nullptr), 0, 32, stream));
-    const std::size_t temp_words = (temp_bytes_ + 255) / 4 + 64;  // aligned to 256 bytes within
-    if (2 * room + temp_words > words_ || 2 * room + 12 > words_) return false;
+    // The keys' words hold both key arrays and the sort's storage (64 words for its 256-byte
+    // alignment); the ids' words both id arrays and length/bounds (12 words, fewer than that).
+    const std::size_t temp_words = (temp_bytes_ + 3) / 4 + 64;
+    if (2 * room + temp_words > words_) return false;
     keys_ = key_words_;
     sorted_keys_ = key_words_ + room;
     temp_ = reinterpret_cast<unsigned char*>(
