@@ -65,11 +65,13 @@ __global__ void __launch_bounds__(kEvennessBins * kEvennessBins) evenness_max_ke
   if (threadIdx.x == 0) *max_count = fullest;
 }
 
-/// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1.
-__global__ void quantile_kernel(const double* sorted, int samples, int cells, double* bounds) {
+/// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1, its tails weighed
+/// where `weigh_tails` and quantile_tails find them heavy.
+__global__ void quantile_kernel(const double* sorted, int samples, int cells, bool weigh_tails, double* bounds) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j > cells) return;
-  bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j);
+  const QuantileTails tails = weigh_tails ? quantile_tails(sorted, samples) : QuantileTails{};
+  bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
 /// One axis' guide (grid/quantile_guide.hpp), in one block: both keys' tables, in `logarithmic`
@@ -177,8 +179,11 @@ class CellBuckets {
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
-      quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, xb_.get());
-      quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, yb_.get());
+      const bool tails = !quantile_tails_off();
+      quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, tails,
+                                                                             xb_.get());
+      quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, tails,
+                                                                             yb_.get());
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();
       g.yb = yb_.get();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <set>
 #include <string>
@@ -415,6 +416,73 @@ TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of 
     CHECK(checked > 50000);
     CHECK(missed == 0);
   }
+}
+
+TEST_CASE("CUDA quantile grid: heavy tails get more columns, light tails plain quantiles", "[cuda][grid]") {
+  constexpr int samples = 1 << 16;
+  std::mt19937_64 random(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> cauchy(samples), gaussian(samples), even(samples);
+  for (int i = 0; i < samples; ++i) {
+    cauchy[i] = std::tan(M_PI * (unit(random) - 0.5));
+    gaussian[i] = normal(random);
+    even[i] = unit(random);
+  }
+  for (auto* v : {&cauchy, &gaussian, &even}) std::sort(v->begin(), v->end());
+  const cuda::QuantileTails heavy = cuda::quantile_tails(cauchy.data(), samples);
+  CHECK(heavy.tail == samples / cuda::kTailShare);
+  CHECK(heavy.factor == cuda::kTailFactor);
+  CHECK(cuda::quantile_tails(gaussian.data(), samples).factor == 1);
+  CHECK(cuda::quantile_tails(even.data(), samples).factor == 1);
+  CHECK(cuda::quantile_tails(cauchy.data(), 100).factor == 1);  // too small a sample to tell
+  for (const int cells : {8, 100, 2896}) {
+    INFO(cells << " columns");
+    int in_tails = 0, mismatches = 0, unordered = 0;
+    double previous = -HUGE_VAL;
+    for (int j = 1; j < cells; ++j) {
+      // Unweighed, the boundaries are the plain quantiles.
+      mismatches += cuda::quantile_boundary(cauchy.data(), samples, cells, j) !=
+                    cauchy[static_cast<std::size_t>(j) * samples / cells];
+      const double b = cuda::quantile_boundary(cauchy.data(), samples, cells, j, heavy);
+      unordered += b < previous;
+      previous = b;
+      in_tails += b < cauchy[heavy.tail] || b >= cauchy[samples - heavy.tail];
+    }
+    CHECK(mismatches == 0);
+    CHECK(unordered == 0);
+    // The outer 2 / kTailShare of the sample hold kTailFactor times their share of the columns.
+    const double expected = (cells - 1.0) * 2.0 * heavy.factor * heavy.tail /
+                            (samples - 2.0 * heavy.tail + 2.0 * heavy.factor * heavy.tail);
+    CHECK(std::abs(in_tails - expected) <= 2.0);
+  }
+}
+
+TEST_CASE("CUDA star walk on the CPU: kuzmin's tails weighed make Delaunay stars for less work", "[cuda][star]") {
+  // Kuzmin's Cauchy tails crowd the quantile cells along their diagonals; weighed tails give
+  // them more columns and rows (quantile_tails).
+  const std::vector<Point2> points = test::points::kuzmin(100000, 7);
+  const SiteSet sites = prepare_sites(points);
+  const Hull hull = convex_hull(sites);
+  setenv("EXPANSE_CUDA_TAILS", "0", 1);
+  cuda::HostStarLayout plain(sites, hull, 2.0, true);
+  unsetenv("EXPANSE_CUDA_TAILS");
+  cuda::HostStarLayout weighed(sites, hull, 2.0, true);
+  const cuda::StarWorkTotals by_plain = plain.walk_all(0, 2), by_weighed = weighed.walk_all(0, 2);
+  INFO("work " << by_plain.work << " -> " << by_weighed.work << ", sites past 2^11 units " << by_plain.sites_over_pow2[0]
+               << " -> " << by_weighed.sites_over_pow2[0] << ", deferred " << by_plain.deferred << " -> "
+               << by_weighed.deferred);
+  std::set<std::array<std::int32_t, 3>> expected;
+  for (const Triangle& t : test::cgal_delaunay(points).triangles) expected.insert(canonical(t));
+  std::size_t wrong = 0;
+  for (Triangle t : weighed.owned_triangles_in_site_ids()) {
+    for (std::int32_t& v : t) v = sites.input_index[v];
+    wrong += expected.count(canonical(t)) != 1;
+  }
+  CHECK(wrong == 0);
+  CHECK(by_weighed.deferred <= by_plain.deferred);
+  CHECK(by_weighed.work < by_plain.work);
+  CHECK(3 * by_weighed.sites_over_pow2[0] < 2 * by_plain.sites_over_pow2[0]);  // 154 -> 87
 }
 
 TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search", "[cuda][grid]") {
