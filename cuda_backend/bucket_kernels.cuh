@@ -131,12 +131,11 @@ class CellBuckets {
         y_guide_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
         x_even_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
         y_even_(quantile_ ? quantile_guide_capacity(std::max(shape.gx, shape.gy)) : 0, stream),
-        guide_keys_(quantile_ ? 2 : 0, stream),
         sx_(quantile_ ? samples_ : 0, stream),
         sy_(quantile_ ? samples_ : 0, stream),
         sx2_(quantile_ ? samples_ : 0, stream),
         sy2_(quantile_ ? samples_ : 0, stream),
-        bins_(quantile_ ? kEvennessBins * kEvennessBins + 1 : 0, stream),
+        bins_(quantile_ ? kEvennessBins * kEvennessBins : 0, stream),
         temp_(temp_bytes(capacity, stream), stream) {
     while ((std::size_t{1} << key_bits_) < cells_ + 1) ++key_bits_;
   }
@@ -161,10 +160,11 @@ class CellBuckets {
         EXPANSE_CUDA(cudaMemsetAsync(bins_.get(), 0, bins_.bytes(), stream));
         evenness_count_kernel<<<std::min(64, bucket_blocks(samples)), kBucketThreads, 0, stream>>>(
             evenness_frame(g), sx_.get(), sy_.get(), samples, bins_.get());
-        evenness_max_kernel<<<1, kEvennessBins * kEvennessBins, 0, stream>>>(bins_.get(), bins_.get() + kEvennessBins * kEvennessBins);
+        // The kernels write the read-backs into the pinned words themselves (mapped, as all pinned
+        // memory is under unified addressing): a copy would queue behind the side stream's copies
+        // of the sites to the host, which run beside the growth in the pipeline.
+        evenness_max_kernel<<<1, kEvennessBins * kEvennessBins, 0, stream>>>(bins_.get(), word);
         EXPANSE_CUDA(cudaGetLastError());
-        EXPANSE_CUDA(cudaMemcpyAsync(word, bins_.get() + kEvennessBins * kEvennessBins, sizeof(unsigned int),
-                                     cudaMemcpyDeviceToHost, stream));
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         uniform_ = evenly_spread(*word, samples);
       }
@@ -191,12 +191,10 @@ class CellBuckets {
         // Each axis' guide chooses its key on the device; the host waits for the choice (quantile
         // cells only: the two sample sorts and the tables, well under a millisecond).
         guide_kernel<<<1, 1024, 0, stream>>>(xb_.get(), q.gx, g.min_x, g.max_x, x_guide_.get(), x_even_.get(),
-                                             guide_keys_.get());
+                                             guide_keys);
         guide_kernel<<<1, 1024, 0, stream>>>(yb_.get(), q.gy, g.min_y, g.max_y, y_guide_.get(), y_even_.get(),
-                                             guide_keys_.get() + 1);
+                                             guide_keys + 1);
         EXPANSE_CUDA(cudaGetLastError());
-        EXPANSE_CUDA(cudaMemcpyAsync(guide_keys, guide_keys_.get(), 2 * sizeof(QuantileGuideKey), cudaMemcpyDeviceToHost,
-                                     stream));
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         g.x_guide = {guide_keys[0].logarithmic ? x_guide_.get() : x_even_.get(), guide_keys[0]};
         g.y_guide = {guide_keys[1].logarithmic ? y_guide_.get() : y_even_.get(), guide_keys[1]};
@@ -263,9 +261,8 @@ class CellBuckets {
   DeviceArray<double> xb_, yb_;
   DeviceArray<int> x_guide_, y_guide_;  ///< the logarithmic keys' tables
   DeviceArray<int> x_even_, y_even_;    ///< the even keys' tables
-  DeviceArray<QuantileGuideKey> guide_keys_;
   DeviceArray<double> sx_, sy_, sx2_, sy2_;
-  DeviceArray<unsigned int> bins_;  ///< the evenness histogram, then its fullest bin
+  DeviceArray<unsigned int> bins_;  ///< the evenness histogram
   DeviceArray<unsigned char> temp_;
 };
 
