@@ -250,14 +250,6 @@ class CudaBackend final : public Backend {
       EXPANSE_CUDA(cudaStreamCreateWithFlags(&ctx_.stream, cudaStreamNonBlocking));
       ctx_.own_stream = true;
     }
-    // EXPANSE_CUDA_POOL_RESERVE_MB=N (experiment, session 25): the pool maps N MiB in one piece
-    // before any triangulation, so that later arrays are carved from one mapping.
-    if (const char* env = std::getenv("EXPANSE_CUDA_POOL_RESERVE_MB"); env && std::atol(env) > 0) {
-      void* reserve = nullptr;
-      EXPANSE_CUDA(cudaMallocAsync(&reserve, static_cast<std::size_t>(std::atol(env)) << 20, ctx_.stream));
-      EXPANSE_CUDA(cudaFreeAsync(reserve, ctx_.stream));
-      EXPANSE_CUDA(cudaStreamSynchronize(ctx_.stream));
-    }
     std::string why;
     if (!device_self_test(ctx_.stream, &why))
       throw Error(ErrorCode::device_error, "CUDA backend: device arithmetic self-test failed on " + ctx_.name + ": " + why);
