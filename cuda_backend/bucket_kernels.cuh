@@ -66,11 +66,11 @@ __global__ void __launch_bounds__(kEvennessBins * kEvennessBins) evenness_max_ke
 }
 
 /// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1, its tails weighed
-/// where `weigh_tails` and quantile_tails find them heavy.
-__global__ void quantile_kernel(const double* sorted, int samples, int cells, bool weigh_tails, double* bounds) {
+/// where quantile_tails finds them heavy.
+__global__ void quantile_kernel(const double* sorted, int samples, int cells, TailWeighing weighing, double* bounds) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j > cells) return;
-  const QuantileTails tails = weigh_tails ? quantile_tails(sorted, samples) : QuantileTails{};
+  const QuantileTails tails = quantile_tails(sorted, samples, weighing);
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
@@ -179,10 +179,10 @@ class CellBuckets {
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
-      const bool tails = !quantile_tails_off();
-      quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, tails,
+      const TailWeighing weighing = tail_weighing();
+      quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, weighing,
                                                                              xb_.get());
-      quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, tails,
+      quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, weighing,
                                                                              yb_.get());
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();

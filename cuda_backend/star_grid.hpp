@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -213,13 +214,32 @@ inline constexpr int kTailShare = 40;
 inline constexpr int kTailFactor = 3;
 inline constexpr double kHeavyTailSpan = 8.0;
 
+/// How heavy tails are weighed: their share of the sample (1 / share each side) and weight.
+/// EXPANSE_CUDA_TAILS=0: not at all (plain quantiles, for comparisons); =share,factor: so.
+struct TailWeighing {
+  int share = kTailShare;
+  int factor = kTailFactor;
+};
+
+inline TailWeighing tail_weighing() {
+  TailWeighing w;
+  if (const char* env = std::getenv("EXPANSE_CUDA_TAILS")) {
+    if (std::strcmp(env, "0") == 0) {
+      w.factor = 1;
+    } else if (std::sscanf(env, "%d,%d", &w.share, &w.factor) != 2 || w.share < 3 || w.factor < 1) {
+      w = TailWeighing{};
+    }
+  }
+  return w;
+}
+
 /// The weighing of an axis from its sorted sample (the same on the host and the device).
-EXPANSE_HOST_DEVICE QuantileTails quantile_tails(const double* sorted, int samples) {
-  if (samples < 4 * kTailShare) return {};
+EXPANSE_HOST_DEVICE QuantileTails quantile_tails(const double* sorted, int samples, TailWeighing w = {}) {
+  if (w.factor <= 1 || samples < 4 * w.share) return {};
   const double middle = sorted[3 * (samples / 4)] - sorted[samples / 4];
   const double outer = sorted[samples - 1 - samples / 100] - sorted[samples / 100];
   if (!(outer > kHeavyTailSpan * middle)) return {};
-  return {samples / kTailShare, kTailFactor};
+  return {samples / w.share, w.factor};
 }
 
 /// Boundary j (1 .. cells - 1) from the sorted sample: its (j / cells)-quantile, the sample
@@ -232,12 +252,6 @@ EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, 
                       : target < f * tail + middle ? tail + (target - f * tail)
                                                    : tail + middle + (target - f * tail - middle) / f;
   return sorted[k < samples ? k : samples - 1];
-}
-
-/// EXPANSE_CUDA_TAILS=0: plain quantiles whatever the tails (for comparisons).
-inline bool quantile_tails_off() {
-  const char* env = std::getenv("EXPANSE_CUDA_TAILS");
-  return env && std::strcmp(env, "0") == 0;
 }
 
 /// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.

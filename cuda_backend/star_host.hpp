@@ -74,9 +74,9 @@ class HostStarLayout {
       std::sort(ys.begin(), ys.end());
       xb_.assign(shape.gx + 1, 0.0);
       yb_.assign(shape.gy + 1, 0.0);
-      const bool tails = !quantile_tails_off();
-      const QuantileTails x_tails = tails ? quantile_tails(xs.data(), samples) : QuantileTails{};
-      const QuantileTails y_tails = tails ? quantile_tails(ys.data(), samples) : QuantileTails{};
+      const TailWeighing weighing = tail_weighing();
+      const QuantileTails x_tails = quantile_tails(xs.data(), samples, weighing);
+      const QuantileTails y_tails = quantile_tails(ys.data(), samples, weighing);
       for (int j = 1; j < shape.gx; ++j) xb_[j] = quantile_boundary(xs.data(), samples, shape.gx, j, x_tails);
       for (int j = 1; j < shape.gy; ++j) yb_[j] = quantile_boundary(ys.data(), samples, shape.gy, j, y_tails);
       grid_.xb = xb_.data();
