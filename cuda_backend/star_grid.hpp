@@ -205,13 +205,17 @@ struct QuantileTails {
 /// 2,000 sites a cell at 4096^2) and the searches there scan them whole. The outer 1/40 of each
 /// axis' sample weighed 3 times (counted on the CPU, `expanse-bench-star-work`, two phases):
 /// kuzmin 4096^2 89.5 -> 80.9 units a site, sites past 2^11 units 21,761 -> 6,410, past 2^13
-/// 4,640 -> 1,169; at 10^6 87.3 -> 80.2. Weights of 2 to 4 over the outer 1 to 5% did within 1%
-/// of that at 10^6; weights of 8 to 16, or boundaries following the crowding itself (a sample
-/// histogram's weights), did worse. A light tail gains nothing (gaussian clusters at 10^6 78.5
-/// -> 79.7), so only an axis whose outer 98% spans over kHeavyTailSpan times its middle half is
-/// weighed: Cauchy's spans 31.8 times, a gaussian's 3.4, an even spread's 2.
+/// 4,640 -> 1,169; at 10^6 87.3 -> 80.2, and within 1% of that for weights of 2 to 4 over the
+/// outer 1 to 5% (boundaries that follow a sample histogram's crowding did worse). On the H100
+/// (GPU-only, session 25 calls 2, 5 and 6, two rounds each) kuzmin 4096^2 went 67.0 / 67.4 ->
+/// 62.3 / 62.2 ms at 40,3, and heavier weights did better there: 62.5 at 40,2, 60.1 at 40,5;
+/// with the first pass's budget at 2^11, 59.3-59.7 for 40,5 to 40,8 and 30,6 to 60,6. 40,5
+/// takes kuzmin 2048^2 19.16 -> 18.28 ms and 512^2 4.02 -> 3.88 (40,6: 17.81 and 4.06). A light
+/// tail gains nothing (gaussian clusters at 10^6 78.5 -> 79.7 units), so only an axis whose
+/// outer 98% spans over kHeavyTailSpan times its middle half is weighed: Cauchy's spans 31.8
+/// times, a gaussian's 3.4, an even spread's 2.
 inline constexpr int kTailShare = 40;
-inline constexpr int kTailFactor = 3;
+inline constexpr int kTailFactor = 5;
 inline constexpr double kHeavyTailSpan = 8.0;
 
 /// How heavy tails are weighed: their share of the sample (1 / share each side) and weight.

@@ -567,11 +567,14 @@ constexpr int kThreads = 256;
 /// walked again from the start. H100, GPU-only, two rounds (session 17 call 6, with the interior
 /// retry at 2^13), 2^11 / 3 * 2^10 / 2^12: kuzmin 4096^2 72.6-72.8 / 71.0-71.4 / 69.8-70.0 ms,
 /// gaussian 4096^2 49.1-50.1 / 49.9-52.7 / 50.4-50.7; at 2048^2 2^12 lost (kuzmin 23.3-23.7 ->
-/// 25.1-25.5, gaussian 17.8-17.9 -> 18.7).
+/// 25.1-25.5, gaussian 17.8-17.9 -> 18.7). Since heavy tails are weighed (quantile_tails), those
+/// stretched cells are fewer, and 2^11 serves above 2^23 sites too (session 25 calls 5-6,
+/// GPU-only, two rounds each: kuzmin 4096^2 60.07 / 60.08 -> 59.51 / 59.34 ms at the weighing of
+/// 40,5; gaussian 44.84 / 44.90 -> 44.36 / 44.31 and, with 2^10, 44.77 / 44.69).
 unsigned first_pass_budget(std::size_t sites, bool quantile_cells) {
   if (sites <= (std::size_t{1} << 18)) return 1u << 8;
   if (!quantile_cells || sites <= (std::size_t{1} << 20)) return 1u << 10;
-  return sites > (std::size_t{1} << 23) ? 1u << 12 : 1u << 11;
+  return 1u << 11;
 }
 /// The whole walk's budget for box scans (default_budget above 2^20 sites). Up to 2^20 sites the
 /// kernel is the tail of its few heaviest sites, the hull-hugging ones, and the seam stage makes
