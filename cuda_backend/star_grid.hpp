@@ -213,7 +213,8 @@ struct QuantileTails {
 /// takes kuzmin 2048^2 19.16 -> 18.28 ms and 512^2 4.02 -> 3.88 (40,6: 17.81 and 4.06). A light
 /// tail gains nothing (gaussian clusters at 10^6 78.5 -> 79.7 units), so only an axis whose
 /// outer 98% spans over kHeavyTailSpan times its middle half is weighed: Cauchy's spans 31.8
-/// times, a gaussian's 3.4, an even spread's 2.
+/// times, a gaussian's 3.4, an even spread's 2. So: the outer 1/kTailShare of a heavy-tailed
+/// axis' sample on each side, weighed kTailFactor times.
 inline constexpr int kTailShare = 40;
 inline constexpr int kTailFactor = 5;
 inline constexpr double kHeavyTailSpan = 8.0;
