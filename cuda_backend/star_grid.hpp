@@ -6,11 +6,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 #include "device_geometry.cuh"
+#include "grid/quantile_tails.hpp"
 #include "input/site_set.hpp"
 #include "predicates/exact_lattice.hpp"
 
@@ -191,73 +191,9 @@ inline bool evenly_spread(unsigned max_count, int samples) {
   return static_cast<double>(max_count) <= 2.0 * samples / (kEvennessBins * kEvennessBins);
 }
 
-/// How an axis' quantile boundaries weigh its sample: the outer `tail` sorted samples on each
-/// side count `factor` times the others, so the tails get `factor` times their share of columns
-/// (or rows). {0, 1}: plain quantiles.
-struct QuantileTails {
-  int tail = 0;
-  int factor = 1;
-};
-
-/// Heavy tails get finer cells. Quantile cells are a product of two marginals, and along a heavy
-/// tail's diagonals a radial density crowds them: kuzmin's (Cauchy) tails are tail-dependent, so
-/// the cells where both quantiles are extreme hold a fixed share of a whole tail column (up to
-/// 2,000 sites a cell at 4096^2) and the searches there scan them whole. The outer 1/40 of each
-/// axis' sample weighed 3 times (counted on the CPU, `expanse-bench-star-work`, two phases):
-/// kuzmin 4096^2 89.5 -> 80.9 units a site, sites past 2^11 units 21,761 -> 6,410, past 2^13
-/// 4,640 -> 1,169; at 10^6 87.3 -> 80.2, and within 1% of that for weights of 2 to 4 over the
-/// outer 1 to 5% (boundaries that follow a sample histogram's crowding did worse). On the H100
-/// (GPU-only, session 25 calls 2, 5 and 6, two rounds each) kuzmin 4096^2 went 67.0 / 67.4 ->
-/// 62.3 / 62.2 ms at 40,3, and heavier weights did better there: 62.5 at 40,2, 60.1 at 40,5;
-/// with the first pass's budget at 2^11, 59.3-59.7 for 40,5 to 40,8 and 30,6 to 60,6. 40,5
-/// takes kuzmin 2048^2 19.16 -> 18.28 ms and 512^2 4.02 -> 3.88 (40,6: 17.81 and 4.06). A light
-/// tail gains nothing (gaussian clusters at 10^6 78.5 -> 79.7 units), so only an axis whose
-/// outer 98% spans over kHeavyTailSpan times its middle half is weighed: Cauchy's spans 31.8
-/// times, a gaussian's 3.4, an even spread's 2. So: the outer 1/kTailShare of a heavy-tailed
-/// axis' sample on each side, weighed kTailFactor times.
-inline constexpr int kTailShare = 40;
-inline constexpr int kTailFactor = 5;
-inline constexpr double kHeavyTailSpan = 8.0;
-
-/// How heavy tails are weighed: their share of the sample (1 / share each side) and weight.
-/// EXPANSE_CUDA_TAILS=0: not at all (plain quantiles, for comparisons); =share,factor: so.
-struct TailWeighing {
-  int share = kTailShare;
-  int factor = kTailFactor;
-};
-
-inline TailWeighing tail_weighing() {
-  TailWeighing w;
-  if (const char* env = std::getenv("EXPANSE_CUDA_TAILS")) {
-    if (std::strcmp(env, "0") == 0) {
-      w.factor = 1;
-    } else if (std::sscanf(env, "%d,%d", &w.share, &w.factor) != 2 || w.share < 3 || w.factor < 1) {
-      w = TailWeighing{};
-    }
-  }
-  return w;
-}
-
-/// The weighing of an axis from its sorted sample (the same on the host and the device).
-EXPANSE_HOST_DEVICE QuantileTails quantile_tails(const double* sorted, int samples, TailWeighing w = {}) {
-  if (w.factor <= 1 || samples < 4 * w.share) return {};
-  const double middle = sorted[3 * (samples / 4)] - sorted[samples / 4];
-  const double outer = sorted[samples - 1 - samples / 100] - sorted[samples / 100];
-  if (!(outer > kHeavyTailSpan * middle)) return {};
-  return {samples / w.share, w.factor};
-}
-
-/// Boundary j (1 .. cells - 1) from the sorted sample: its (j / cells)-quantile, the sample
-/// weighed as `tails` says (plain quantiles by default).
-EXPANSE_HOST_DEVICE double quantile_boundary(const double* sorted, int samples, int cells, int j,
-                                             QuantileTails tails = {}) {
-  const long long f = tails.factor, tail = tails.tail, middle = samples - 2 * tail;
-  const long long target = (middle + 2 * f * tail) * j / cells;  // in weighed samples
-  const long long k = target < f * tail            ? target / f
-                      : target < f * tail + middle ? tail + (target - f * tail)
-                                                   : tail + middle + (target - f * tail - middle) / f;
-  return sorted[k < samples ? k : samples - 1];
-}
+/// EXPANSE_CUDA_TAILS=0: quantile cells' boundaries at plain quantiles, whatever the tails (for
+/// comparisons); =share,factor: tails weighed so (grid/quantile_tails.hpp).
+inline TailWeighing tail_weighing() { return parse_tail_weighing(std::getenv("EXPANSE_CUDA_TAILS")); }
 
 /// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.
 inline bool quantile_guided(int cells) { return cells >= 8; }

@@ -418,46 +418,6 @@ TEST_CASE("CUDA box scans: a row cut to the search's region keeps every site of 
   }
 }
 
-TEST_CASE("CUDA quantile grid: heavy tails get more columns, light tails plain quantiles", "[cuda][grid]") {
-  constexpr int samples = 1 << 16;
-  std::mt19937_64 random(29);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::vector<double> cauchy(samples), gaussian(samples), even(samples);
-  for (int i = 0; i < samples; ++i) {
-    cauchy[i] = std::tan(M_PI * (unit(random) - 0.5));
-    gaussian[i] = normal(random);
-    even[i] = unit(random);
-  }
-  for (auto* v : {&cauchy, &gaussian, &even}) std::sort(v->begin(), v->end());
-  const cuda::QuantileTails heavy = cuda::quantile_tails(cauchy.data(), samples);
-  CHECK(heavy.tail == samples / cuda::kTailShare);
-  CHECK(heavy.factor == cuda::kTailFactor);
-  CHECK(cuda::quantile_tails(gaussian.data(), samples).factor == 1);
-  CHECK(cuda::quantile_tails(even.data(), samples).factor == 1);
-  CHECK(cuda::quantile_tails(cauchy.data(), 100).factor == 1);  // too small a sample to tell
-  for (const int cells : {8, 100, 2896}) {
-    INFO(cells << " columns");
-    int in_tails = 0, mismatches = 0, unordered = 0;
-    double previous = -HUGE_VAL;
-    for (int j = 1; j < cells; ++j) {
-      // Unweighed, the boundaries are the plain quantiles.
-      mismatches += cuda::quantile_boundary(cauchy.data(), samples, cells, j) !=
-                    cauchy[static_cast<std::size_t>(j) * samples / cells];
-      const double b = cuda::quantile_boundary(cauchy.data(), samples, cells, j, heavy);
-      unordered += b < previous;
-      previous = b;
-      in_tails += b < cauchy[heavy.tail] || b >= cauchy[samples - heavy.tail];
-    }
-    CHECK(mismatches == 0);
-    CHECK(unordered == 0);
-    // The outer 2 / kTailShare of the sample hold kTailFactor times their share of the columns.
-    const double expected = (cells - 1.0) * 2.0 * heavy.factor * heavy.tail /
-                            (samples - 2.0 * heavy.tail + 2.0 * heavy.factor * heavy.tail);
-    CHECK(std::abs(in_tails - expected) <= 2.0);
-  }
-}
-
 TEST_CASE("CUDA star walk on the CPU: kuzmin's tails weighed make Delaunay stars for less work", "[cuda][star]") {
   // Kuzmin's Cauchy tails crowd the quantile cells along their diagonals; weighed tails give
   // them more columns and rows (quantile_tails).
