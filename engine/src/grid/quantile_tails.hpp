@@ -16,9 +16,11 @@
 // 40,2, 60.1 at 40,5; with the first pass's budget at 2^11, 59.3-59.7 for 40,5 to 40,8 and 30,6
 // to 60,6); 40,5 takes kuzmin 2048^2 19.16 -> 18.28 ms and 512^2 4.02 -> 3.88. Vulkan on
 // lavapipe, kuzmin 10^6, five runs each: 1,925-2,056 -> 1,794-1,989 ms host to host (medians
-// 1,931 -> 1,862), its seam share 0.57% -> 0.19% (sites deferred 5,327 -> 1,712). A light tail gains nothing (gaussian clusters at 10^6, counted: 78.5 -> 79.7 units), so
-// only an axis whose outer 98% spans over kHeavyTailSpan times its middle half is weighed:
-// Cauchy's spans 31.8 times, a gaussian's 3.4, an even spread's 2.
+// 1,931 -> 1,862), its seam share 0.57% -> 0.19% (sites deferred 5,327 -> 1,712); on the H100,
+// kuzmin 4096^2, its star shader 105.2 -> 97.7 ms. A light tail gains nothing (gaussian clusters
+// at 10^6, counted: 78.5 -> 79.7 units), so only an axis whose outer 98% spans over
+// kHeavyTailSpan times its middle half is weighed: Cauchy's spans 31.8 times, a gaussian's 3.4,
+// an even spread's 2.
 //
 // The host and CUDA evaluate the same integer arithmetic on the same sorted sample, so the
 // CUDA backend's host mirror (cuda_backend/star_host.hpp) and its kernels agree on every cell.
