@@ -185,12 +185,8 @@ class HostStarLayout {
           }
         } else if (inbox.reading)
           w = reading_walk(row);
-        else if (strips_)
-          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true, false, false, true>(grid_, pred_.data(), s, row, budget)
-                             : walk_star_by<StarSearch::boxes, false, false, false, true>(grid_, pred_.data(), s, row, budget);
         else
-          w = exact_lattice_ ? walk_star_by<StarSearch::boxes, true>(grid_, pred_.data(), s, row, budget)
-                             : walk_star_by<StarSearch::boxes>(grid_, pred_.data(), s, row, budget);
+          w = walk_site(s, row, budget, false);
         ++totals.sites;
         work_of_[i] = w.work;
         totals.predicates += w.predicates;
