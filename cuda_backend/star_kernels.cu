@@ -316,20 +316,27 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   if (search) search_list[block_base + warp_base[warp] + __popc(listed & ((1u << lane) - 1u))] = i;
 }
 
+/// *to = *from, in stream order: a list's length at that point, kept while the list grows on.
+__global__ void copy_count_kernel(const unsigned int* from, unsigned int* to) { *to = *from; }
+
 /// The second pass: the sites a first pass listed (*count of them), with the full budget, each
 /// walked by a whole warp. Measured on the H100 (2026-11-23, uniform 4096^2): packed 32 sites to
 /// a warp the second pass ran 2.7x slower than a single pass (623 against 233 ms), their
 /// divergent searches serialised; one site per warp on one thread still lost (285 against 228
 /// ms), a heavy site's walk being a chain of dependent loads that one thread runs at ~1 us per
 /// candidate.
+///
+/// `skip` (null: none): the list's first *skip sites are another launch's (the first phase's,
+/// walked beside the second phase: first_phase_retry).
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool Strips = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
                                                                     unsigned int* counters, unsigned budget,
-                                                                    const int* retry_list, const unsigned int* count) {
+                                                                    const int* retry_list, const unsigned int* count,
+                                                                    const unsigned int* skip = nullptr) {
   const unsigned sites = *count;
   const unsigned warps = gridDim.x * (blockDim.x / 32);
-  for (unsigned k = (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
+  for (unsigned k = (skip ? *skip : 0u) + (blockIdx.x * blockDim.x + threadIdx.x) / 32; k < sites; k += warps)
     walk_and_record<Search, Walker::warp, ExactLattice, false, false, Strips>(
         g, pred, retry_list[k], star, info, owned, counters, budget, WalkPass::retry, nullptr, nullptr, nullptr);
 }
@@ -668,8 +675,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search
-  DeviceArray<unsigned int> d_counters(13, stream);
+  // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search; [13]: the
+  // retry list's length after the first phase (first_phase_retry)
+  DeviceArray<unsigned int> d_counters(14, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -848,6 +856,16 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
     const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
     const int phases = two && !order ? 2 : 1;
+    // The first phase's sites that run past its budget are walked again (by warps) on the edge's
+    // stream during the second phase, which needs nothing from them: their stars post nothing
+    // (no walk posts after the first phase), and the second phase searches for what they would
+    // have posted, as before. At the end the main stream's retry walks only the second phase's
+    // and the undecided walks' sites; it was the stage's tail (4096^2, H100, session 25 call 7:
+    // kuzmin's 5,740 sites 2.5 ms after the second phase, gaussian's 56 sites 1.6 ms).
+    // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, for comparisons.
+    const char* early_retry_env = std::getenv("EXPANSE_CUDA_EARLY_RETRY");
+    const bool early_retry = edge.keys && phases == 2 && two_passes &&
+                             !(early_retry_env && std::strcmp(early_retry_env, "0") == 0);
     const std::size_t inboxes = phases == 2 ? n / 2 + 1 : 0;
     DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
@@ -874,7 +892,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       constexpr bool striped = decltype(with_strips)::value;
-      cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr;
+      cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr, phase0_done = nullptr;
       timeline.mark("start", stream);
       // The strips serve the edge's walks and the warps' second pass: built on the edge's stream,
       // beside the first phase, which needs none (session 24 call 3: 0.22 ms of the bucket
@@ -910,7 +928,20 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", es);
-        EXPANSE_CUDA(cudaEventRecord(join, es));
+      };
+      // The first phase's retries on the edge's stream, once its own walks are done, beside the
+      // second phase (first_phase_retry): the list as the first phase leaves it (counters[13]);
+      // the main stream's retry takes what the second phase and the undecided walks add.
+      auto launch_first_phase_retry = [&] {
+        if (!early_retry) return;
+        copy_count_kernel<<<1, 1, 0, stream>>>(d_counters.get() + 7, d_counters.get() + 13);
+        EXPANSE_CUDA(cudaEventCreateWithFlags(&phase0_done, cudaEventDisableTiming));
+        EXPANSE_CUDA(cudaEventRecord(phase0_done, stream));
+        EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, phase0_done));
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ctx.edge_stream>>>(
+            g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget, d_retry.get(),
+            d_counters.get() + 13);
+        timeline.mark("phase 0 retry", ctx.edge_stream);
       };
       if (!edge_after_phase0) launch_edge();
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
@@ -936,6 +967,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           }
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
           if (phase == 0 && edge_after_phase0) launch_edge();
+          if (phase == 0) launch_first_phase_retry();
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
@@ -956,15 +988,16 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (two_passes)
         star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget,
-            d_retry.get(),
-            d_counters.get() + 7);
+            d_retry.get(), d_counters.get() + 7, early_retry ? d_counters.get() + 13 : nullptr);
       timeline.mark("retry", stream);
       if (edge.keys) {
+        EXPANSE_CUDA(cudaEventRecord(join, ctx.edge_stream));
         EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
         EXPANSE_CUDA(cudaEventDestroy(fork));
         EXPANSE_CUDA(cudaEventDestroy(join));
       }
       if (stripped) EXPANSE_CUDA(cudaEventDestroy(stripped));
+      if (phase0_done) EXPANSE_CUDA(cudaEventDestroy(phase0_done));
     };
     // Lattices are integer inputs, which run at 6 blocks a multiprocessor.
     constexpr std::integral_constant<int, 6> six{};
