@@ -161,29 +161,10 @@ class HostStarLayout {
         int* row = star_.data() + i * kStar;
         const int s = static_cast<int>(i);
         StarWalk w;
-        auto reading_walk_once = [&](int* into, const WalkRound& round) {
-          return exact_lattice_ ? walk_star_by<StarSearch::boxes, true, false, true>(grid_, pred_.data(), s, into,
-                                                                                      budget, inbox, round)
-                                : walk_star_by<StarSearch::boxes, false, false, true>(grid_, pred_.data(), s, into,
-                                                                                       budget, inbox, round);
-        };
-        // In rounds of one search each (star_round_kernel), resumed from the state a round
-        // leaves, its work summed; or in one walk.
         auto reading_walk = [&](int* into) {
-          if (!walk_in_rounds_) return reading_walk_once(into, WalkRound{});
-          WalkRound round{1};
-          unsigned work = 0, predicates = 0;
-          for (;;) {
-            StarWalk w = reading_walk_once(into, round);
-            work += w.work;
-            predicates += w.predicates;
-            if (w.resume_at < 0) {
-              w.work = work;
-              w.predicates = predicates;
-              return w;
-            }
-            round = resumed_round(round_state(w), w.resume_at, 1);
-          }
+          return exact_lattice_
+                     ? walk_star_by<StarSearch::boxes, true, false, true>(grid_, pred_.data(), s, into, budget, inbox)
+                     : walk_star_by<StarSearch::boxes, false, false, true>(grid_, pred_.data(), s, into, budget, inbox);
         };
         if (search == StarSearch::rings) {
           w = walk_star_by<StarSearch::rings>(grid_, pred_.data(), s, row, budget);
@@ -275,10 +256,6 @@ class HostStarLayout {
   /// two differ (StarWorkTotals::inbox_walk_mismatches).
   void verify_inbox_walks(bool on) { verify_inbox_walks_ = on; }
 
-  /// walk_all() then walks the second phase's searching sites in rounds of one search each, as
-  /// star_round_kernel does (the row kept between rounds).
-  void walk_in_rounds(bool on) { walk_in_rounds_ = on; }
-
   /// Site i's walk by box scans into `row`, as the kernels' passes walk it: the full walk, or
   /// the first pass's light one (walk_star_boxes' FirstPass).
   StarWalk walk_site(int i, int* row, unsigned budget, bool first_pass) const {
@@ -355,7 +332,6 @@ class HostStarLayout {
   std::vector<std::uint32_t> info_;
   std::vector<std::uint32_t> work_of_;
   bool verify_inbox_walks_ = false;
-  bool walk_in_rounds_ = false;
   bool strips_ = false;
   std::vector<std::uint32_t> strip_keys_;
   std::vector<int> strip_ids_;

@@ -52,14 +52,13 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list,
                                                 int* undecided_list, unsigned int* list_counts,
-                                                const StarInbox& inbox = {}, const WalkRound& round = {},
-                                                int* next_list = nullptr, unsigned int* next_count = nullptr) {
+                                                const StarInbox& inbox = {}) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   if constexpr (By == Walker::warp)
     w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips>(g, pred, i, row, budget);
   else
-    w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox, round);
+    w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
   // the deferred count is rare. A warp walking one site holds its count spread over its lanes.
@@ -69,27 +68,6 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   if ((threadIdx.x & 31) == __ffs(active) - 1) {
     atomicAdd(reinterpret_cast<unsigned long long*>(counters + 2), static_cast<unsigned long long>(warp_total));
     atomicMax(counters + 4, warp_max);
-  }
-  if constexpr (ReadsInbox) {
-    // A round's walk that stopped at its search limit (star_round_kernel): its state kept in
-    // its info and owned words, the site listed for the next round, one atomic a warp.
-    if (next_list) {
-      const bool more = w.resume_at >= 0;
-      const unsigned listed = __ballot_sync(active, more);
-      if (listed) {
-        const int leader = __ffs(active) - 1;
-        const unsigned lane = threadIdx.x & 31;
-        unsigned base = 0;
-        if (static_cast<int>(lane) == leader) base = atomicAdd(next_count, static_cast<unsigned>(__popc(listed)));
-        base = __shfl_sync(active, base, leader);
-        if (more) {
-          next_list[base + static_cast<unsigned>(__popc(listed & ((1u << lane) - 1u)))] = i;
-          info[i] = round_state(w);
-          owned[i] = w.resume_at;
-          return;
-        }
-      }
-    }
   }
   if constexpr (By == Walker::warp) {
     if ((threadIdx.x & 31) != 0) return;  // the rest is one site's, done once
@@ -286,32 +264,6 @@ __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, c
   for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
     walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(
         g, pred, list[k], star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
-}
-
-/// The second phase's searching sites (inbox_star_kernel's list) walked in rounds: each round
-/// walks its list's sites, a thread each, up to `searches` apex searches (0, the last round: no
-/// limit), and lists those that stop there for the next (next_list, *next_count), resumed where
-/// they stopped (`resumed`: their state in info and owned, WalkRound). In one walk a warp's
-/// lanes wait for the one with the most searches; under ncu (4096^2, session 26 call 3) the
-/// phase's walks kept 7.3 (uniform) and 6.4 (kuzmin) of a warp's 32 threads busy.
-template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false>
-__global__ void __launch_bounds__(128, MinBlocks) star_round_kernel(GridView g, const int* pred, int* star,
-                                                                    std::uint32_t* info, int* owned,
-                                                                    unsigned int* counters, unsigned budget,
-                                                                    const int* list, const unsigned int* count,
-                                                                    int* retry_list, int* undecided_list,
-                                                                    unsigned int* list_counts, WalkPass pass,
-                                                                    StarInbox inbox, int searches, bool resumed,
-                                                                    int* next_list, unsigned int* next_count) {
-  const unsigned sites = *count;
-  for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x) {
-    const int i = list[k];
-    const WalkRound round = resumed ? resumed_round(info[i], owned[i], searches) : WalkRound{searches};
-    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, true>(g, pred, i, star, info, owned, counters,
-                                                                           budget, pass, retry_list, undecided_list,
-                                                                           list_counts, inbox, round, next_list,
-                                                                           next_count);
-  }
 }
 
 /// The second phase's first step (StarInbox): an odd site whose inbox holds its whole star
@@ -724,9 +676,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search; [13]: the
-  // retry list's length after the first phase (first_phase_retry); [14..16]: the lists of the
-  // second phase's later rounds (star_round_kernel)
-  DeviceArray<unsigned int> d_counters(17, stream);
+  // retry list's length after the first phase (first_phase_retry)
+  DeviceArray<unsigned int> d_counters(14, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -926,10 +877,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // noise either way (call 9). EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
     const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
-    // The listed sites' walks in rounds of one search each but the last (star_round_kernel);
-    // EXPANSE_CUDA_PHASE1_ROUNDS = 1 to 4 (1: one walk each).
-    const char* rounds_env = std::getenv("EXPANSE_CUDA_PHASE1_ROUNDS");
-    const int phase1_rounds = std::clamp(rounds_env ? std::atoi(rounds_env) : 1, 1, 4);
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
     // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
     // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
@@ -1000,7 +947,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
       // The second phase either walks every odd site, or first records those whose inboxes hold
       // their whole stars (inbox_star_kernel) and walks the rest from a list (`later_list`).
-      auto walk_phases = [&](auto first, auto later, auto later_list, auto later_rounds, int* undecided) {
+      auto walk_phases = [&](auto first, auto later, auto later_list, int* undecided) {
         for (int phase = 0; phase < phases; ++phase) {
           const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase == 1};
           const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
@@ -1010,22 +957,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                 d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
                 d_search, d_counters.get() + 12, ends_first);
             timeline.mark("phase 1 from inboxes", stream);
-            if (phase1_rounds > 1) {
-              // Ping-pong lists: d_search (at most the odd sites) and the room after it.
-              int* const lists[2] = {d_search, d_search + (n - n / 2)};
-              for (int r = 0; r < phase1_rounds; ++r) {
-                const bool last = r + 1 == phase1_rounds;
-                later_rounds<<<blocks_for(sites, 128), 128, 0, stream>>>(
-                    g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                    lists[r & 1], d_counters.get() + (r == 0 ? 12 : 13 + r), d_retry.get(), undecided,
-                    d_counters.get() + 7, pass, inbox, last ? 0 : 1, r > 0, last ? nullptr : lists[(r + 1) & 1],
-                    last ? nullptr : d_counters.get() + 14 + r);
-              }
-            } else {
-              later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
-                  g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                  d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
-            }
+            later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
+                g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
+                d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
           } else {
             (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
@@ -1040,8 +974,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (light) {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
                     star_kernel<StarSearch::boxes, later_b, exact, true, true>,
-                    star_list_kernel<StarSearch::boxes, later_b, exact, true, true>,
-                    star_round_kernel<StarSearch::boxes, later_b, exact, true>, d_undecided.get());
+                    star_list_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
         star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
@@ -1049,8 +982,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       } else {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact>,
                     star_kernel<StarSearch::boxes, later_b, exact, false, true>,
-                    star_list_kernel<StarSearch::boxes, later_b, exact, false, true>,
-                    star_round_kernel<StarSearch::boxes, later_b, exact, false>, nullptr);
+                    star_list_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (stripped) EXPANSE_CUDA(cudaStreamWaitEvent(stream, stripped));
       if (two_passes)

@@ -170,7 +170,7 @@ enum class Walker { thread, warp };
 template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
           bool Strips = false>
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
-                                        const StarInbox& inbox = {}, const WalkRound& round = {}) {
+                                        const StarInbox& inbox = {}) {
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
@@ -179,7 +179,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
 #if defined(__CUDACC__)
   if constexpr (By == Walker::warp) writer = (threadIdx.x & 31) == 0;
 #endif
-  enum Phase : int { nearest, ccw, cw, done, deferred, paused };
+  enum Phase : int { nearest, ccw, cw, done, deferred };
   constexpr int kNone = 1 << 29;
   constexpr double eps = ex::epsilon;
   StarWalk w;
@@ -222,7 +222,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   // Strips: the side whose strip is being scanned (-1: boxes), and the last region's bounds.
   int strip = -1;
   CircleRegion last_region{};
-  int searches = 0;  // ReadsInbox: apex searches done in this call (WalkRound)
 
   // The cells where a site better than `best` could lie, with `bounds` set to match.
   auto region_of_best = [&]() {
@@ -368,37 +367,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     }
     return false;
   };
-  // The search for the apex of the walk's next edge: s->v counter-clockwise, v->s clockwise.
-  auto begin_edge_search = [&]() {
-    const double2 pv = load_site(g.points, v);
-    pa = phase == ccw ? ps : pv;
-    pb = phase == ccw ? pv : ps;
-    best = -1;
-    best_p = ps;
-    visited = {kNone, kNone, -kNone, -kNone};
-    bounds.apex = true;
-    bounds.disc = false;
-    bounds.a = pa;
-    bounds.b = pb;
-    // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
-    // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
-    const double bax = pb.x - pa.x, bay = pb.y - pa.y;
-    const double lean = 0.5 * g.first_offset;
-    const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
-    const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
-    target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
-    // A long edge (its box over kLongEdgeCells cells) along the side of a grid of equal cells
-    // first scans the cells along it: such an edge runs beside a straight hull side, where the
-    // empty circle is a sliver along the edge, and the guess's box, as wide as the edge is
-    // long, held thousands of sites inside the hull. (Quantile cells' outer rows hold a
-    // clustered input's sparse tails, whose long edges are no slivers.)
-    if (Strips && g.strips.ids && !g.xb && box_cells(target) > kLongEdgeCells) {
-      const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
-      if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
-    }
-    y = target.y0 - 1;
-    big_scan = box_cells(target) > kBigScanCells;
-  };
 #if defined(__CUDACC__)
   // The warp's lanes test one candidate each (a lane whose `valid` is false, none), in the
   // thread's order. `seen`: how many the thread would have tested, up to and including the first
@@ -494,19 +462,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
     slot = slot_end = 0;
   };
 #endif
-  if constexpr (ReadsInbox) {
-    // Resumed where an earlier round's walk stopped: the row holds its steps so far, and the
-    // search for the apex of the edge at `resume_at` comes first.
-    if (round.resume_at >= 0) {
-      v0 = row[0];
-      v = round.resume_at;
-      w.ccw = round.ccw;
-      w.cw = round.cw;
-      phase = round.clockwise ? cw : ccw;
-      given = false;
-      begin_edge_search();
-    }
-  }
   for (;;) {    // exact loop
     for (;;) {  // search loop
       for (;;) {  // scan loop
@@ -612,7 +567,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         } else {
           const CellBox region = region_of_best();
           found = given || box_inside(region, visited);
-          if constexpr (ReadsInbox) searches += found && !given;
           given = false;
           if constexpr (Strips) {
             std::uint32_t end = 0;
@@ -676,17 +630,35 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
         ++work;  // a step taken from the inbox: one unit
       }
       if (phase >= done) break;
-      if constexpr (ReadsInbox) {
-        // A round's walk (WalkRound) stops before a search past its limit, where the next
-        // round resumes it.
-        if (round.searches > 0 && searches >= round.searches) {
-          w.resume_at = v;
-          w.resume_clockwise = phase == cw;
-          phase = paused;
-          break;
-        }
+      // The next edge: s->v counter-clockwise, v->s clockwise.
+      const double2 pv = load_site(g.points, v);
+      pa = phase == ccw ? ps : pv;
+      pb = phase == ccw ? pv : ps;
+      best = -1;
+      best_p = ps;
+      visited = {kNone, kNone, -kNone, -kNone};
+      bounds.apex = true;
+      bounds.disc = false;
+      bounds.a = pa;
+      bounds.b = pb;
+      // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
+      // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
+      const double bax = pb.x - pa.x, bay = pb.y - pa.y;
+      const double lean = 0.5 * g.first_offset;
+      const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
+      const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
+      target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
+      // A long edge (its box over kLongEdgeCells cells) along the side of a grid of equal cells
+      // first scans the cells along it: such an edge runs beside a straight hull side, where the
+      // empty circle is a sliver along the edge, and the guess's box, as wide as the edge is
+      // long, held thousands of sites inside the hull. (Quantile cells' outer rows hold a
+      // clustered input's sparse tails, whose long edges are no slivers.)
+      if (Strips && g.strips.ids && !g.xb && box_cells(target) > kLongEdgeCells) {
+        const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
+        if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
       }
-      begin_edge_search();
+      y = target.y0 - 1;
+      big_scan = box_cells(target) > kBigScanCells;
     }
     if (work > budget) {
       reason = DeferReason::undecided;
@@ -717,7 +689,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int 
   w.predicates = predicates;
   w.work = work;
   w.ok = phase == done;
-  if (phase != paused) w.resume_at = -1;
   w.reason = w.ok ? DeferReason::none : reason;
   return w;
 }
@@ -741,10 +712,9 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
 template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
           bool Strips = false>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget,
-                                           const StarInbox& inbox = {}, const WalkRound& round = {}) {
+                                           const StarInbox& inbox = {}) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox,
-                                                                                        round);
+    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   else
     return walk_star(g, pred, i, row, budget);
 }

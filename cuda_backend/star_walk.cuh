@@ -24,38 +24,7 @@ struct StarWalk {
   unsigned predicates = 0;
   unsigned work = 0;     ///< cells + sites visited
   bool handed_on = false;  ///< a first-pass walk stopped at a candidate only the exact path decides
-  /// A round's walk (WalkRound) that reached its search limit: the search it stopped before is
-  /// for the edge at this neighbour (-1: the walk did not stop so), clockwise or not; ccw and cw
-  /// count the row's steps so far.
-  int resume_at = -1;
-  bool resume_clockwise = false;
 };
-
-/// A second-phase walk (StarInbox) taken in rounds (star_round_kernel): at most `searches` apex
-/// searches this time (0: no limit), from the start or resumed where an earlier round stopped
-/// (resume_at >= 0, with StarWalk's resume_at, resume_clockwise, ccw and cw of that round).
-struct WalkRound {
-  int searches = 0;
-  int resume_at = -1;
-  int ccw = 0, cw = 0;
-  bool clockwise = false;
-};
-
-/// A stopped walk's state between rounds, in the site's info word (its neighbour in `owned`):
-/// the steps so far, ccw in bits 0-7 and cw in 8-15, and bit 16 for a clockwise walk.
-EXPANSE_DEVICE_FORCE std::uint32_t round_state(const StarWalk& w) {
-  return static_cast<std::uint32_t>(w.ccw) | (static_cast<std::uint32_t>(w.cw) << 8) |
-         (w.resume_clockwise ? 1u << 16 : 0u);
-}
-EXPANSE_DEVICE_FORCE WalkRound resumed_round(std::uint32_t state, int at, int searches) {
-  WalkRound r;
-  r.searches = searches;
-  r.resume_at = at;
-  r.ccw = static_cast<int>(state & 0xffu);
-  r.cw = static_cast<int>((state >> 8) & 0xffu);
-  r.clockwise = (state >> 16) & 1u;
-  return r;
-}
 
 /// Walks the star of sorted site i into row[0 .. kStar): the counter-clockwise part from index 0
 /// up, the clockwise part from the end down, so the row read from index kStar - cw on, wrapping,

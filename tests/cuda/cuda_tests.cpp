@@ -304,27 +304,6 @@ int main(int argc, char** argv) {
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
   unsetenv("EXPANSE_CUDA_INBOX_FIRST");
-  // The second phase's searching sites walked in rounds of one search each, the last without a
-  // limit (star_round_kernel): stopped, kept in their info and owned words, listed and resumed;
-  // with the first pass's hand-offs too (a budget of 8 sends most sites to the warps).
-  for (const char* rounds : {"2", "4"}) {
-    setenv("EXPANSE_CUDA_PHASE1_ROUNDS", rounds, 1);
-    for (const char* first : {"", "8"}) {
-      if (*first) setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
-      const std::string label = std::string("two phases, ") + rounds + " rounds" +
-                                (*first ? ", first-pass budget 8" : "") + ": ";
-      grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
-      grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
-      grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
-      unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
-      if (small) continue;
-      for (const char* dist : {"clusters", "near_collinear", "thin_circle"})
-        grow_case(*backend, label + dist, generate_points(dist, 1500, 7), per_site, true, false);
-      grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
-      grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
-    }
-  }
-  unsetenv("EXPANSE_CUDA_PHASE1_ROUNDS");
   unsetenv("EXPANSE_CUDA_PHASES");
 
   // The boundary strips (BoundaryStrips): at any size, so that the sanitizers' small cases take

@@ -43,7 +43,7 @@ struct Family {
 const char* name_of(cuda::StarSearch search) { return search == cuda::StarSearch::boxes ? "boxes" : "rings"; }
 
 cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::StarSearch search,
-                                  bool two_phases = false, bool strips = false, bool rounds = false) {
+                                  bool two_phases = false, bool strips = false) {
   const std::vector<Point2> points = family.make(family.n, 5);
   const SiteSet sites = prepare_sites(points);
   const Hull hull = convex_hull(sites);
@@ -51,7 +51,6 @@ cuda::StarWorkTotals check_family(const Family& family, bool quantile, cuda::Sta
   cuda::HostStarLayout layout(sites, hull, 2.0, quantile);
   layout.verify_inbox_walks(two_phases);
   layout.use_strips(strips);
-  layout.walk_in_rounds(rounds);
   const cuda::StarWorkTotals totals = layout.walk_all(0, 1, search, two_phases);
   // A star taken whole from the inbox is the star the full walk makes.
   if (two_phases) CHECK(totals.inbox_walk_mismatches == 0);
@@ -136,14 +135,6 @@ TEST_CASE("CUDA star walk on the CPU: exact against CGAL on adversarial families
             const cuda::StarWorkTotals phased = check_family(family, quantile, search, true);
             if (alone.deferred == 0) CHECK(phased.predicates < alone.predicates);
             if (alone.deferred == 0) CHECK(phased.from_inbox > 0);  // stars taken whole from inboxes
-            // The same walks in rounds of one search each (star_round_kernel): stopped before
-            // each further search and resumed from the state kept, they make the same stars
-            // (check_family) by the same searches.
-            const cuda::StarWorkTotals rounds = check_family(family, quantile, search, true, false, true);
-            if (phased.deferred == 0 && rounds.deferred == 0) {
-              CHECK(rounds.predicates == phased.predicates);
-              CHECK(rounds.work == phased.work);
-            }
             // The boundary strips (the edge's walks and the second pass) change which sites a
             // search tests, never the star (check_family compares it with CGAL's).
             check_family(family, quantile, search, false, true);
