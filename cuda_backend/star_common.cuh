@@ -64,29 +64,17 @@ inline constexpr int kInboxTriples = 5;
 inline constexpr int kInboxWords = 16;  // 5 triples, padded to 64 bytes
 
 struct StarInbox {
-  int* slots = nullptr;             ///< kInboxWords per site of a later phase (slot_of); null: none
-  std::uint32_t* counts = nullptr;  ///< triples posted to each (past kInboxTriples dropped)
-  bool reading = false;             ///< a later phase: walks read their inbox
-  int phase = 0;                    ///< the phase walking: the sites v with v % phases == phase
-  int phases = 2;                   ///< 2 or 3
+  int* slots = nullptr;             ///< kInboxWords per odd site (local id i: row i / 2); null: none
+  std::uint32_t* counts = nullptr;  ///< triples posted to each odd site (past kInboxTriples dropped)
+  bool reading = false;             ///< the second phase: walks read their inbox, nobody posts
 
-  /// Inbox slots a triangulation of n sites needs: one per site of a phase after the first.
-  static std::size_t slots_for(std::size_t n, int phases) {
-    return (n / static_cast<std::size_t>(phases) + 1) * static_cast<std::size_t>(phases - 1);
-  }
-  /// Site v's slot, for a site of a phase after the first.
-  EXPANSE_DEVICE_FORCE std::size_t slot_of(int v) const {
-    return phases == 2 ? static_cast<std::size_t>(v >> 1) : static_cast<std::size_t>(v / 3) * 2 + (v % 3) - 1;
-  }
-  /// The walks of this phase post to the later phases' sites: all but the last phase post.
-  EXPANSE_DEVICE_FORCE bool posting() const { return slots && phase + 1 < phases; }
-  /// v is walked in a later phase than this one (and so reads what this phase posts).
-  EXPANSE_DEVICE_FORCE bool later(int v) const { return (phases == 2 ? (v & 1) : v % 3) > phase; }
+  EXPANSE_DEVICE_FORCE static bool odd(int v) { return (v & 1) != 0; }
+  EXPANSE_DEVICE_FORCE bool posting() const { return slots && !reading; }
   EXPANSE_DEVICE_FORCE int posted(int i) const {
-    const int c = static_cast<int>(counts[slot_of(i)]);
+    const int c = static_cast<int>(counts[i >> 1]);
     return c < kInboxTriples ? c : kInboxTriples;
   }
-  EXPANSE_DEVICE_FORCE const int* row(int i) const { return slots + slot_of(i) * kInboxWords; }
+  EXPANSE_DEVICE_FORCE const int* row(int i) const { return slots + static_cast<std::size_t>(i >> 1) * kInboxWords; }
 
   /// A neighbour of odd site i from its inbox, or -1.
   EXPANSE_DEVICE_FORCE int first_neighbour(int i) const { return posted(i) == 0 ? -1 : row(i)[1]; }
@@ -121,13 +109,12 @@ EXPANSE_DEVICE_FORCE void post_star(const StarInbox& inbox, const int* star, std
   const bool closed = star_closed(info);
   for (int t = 0; t < deg; ++t) {
     const int w = star_at(star, info, u, t);
-    if (!inbox.later(w)) continue;
-    const std::size_t slot = inbox.slot_of(w);
-    const unsigned k = bump(inbox.counts + slot);
+    if (!StarInbox::odd(w)) continue;
+    const unsigned k = bump(inbox.counts + (w >> 1));
     if (k >= static_cast<unsigned>(kInboxTriples)) continue;
     // The triangles (u, star t-1, w) and (u, w, star t+1): around w, u comes just after star
     // t+1 and just before star t-1.
-    int* r = inbox.slots + slot * kInboxWords + 3 * k;
+    int* r = inbox.slots + static_cast<std::size_t>(w >> 1) * kInboxWords + 3 * k;
     r[0] = t + 1 < deg || closed ? star_at(star, info, u, t + 1) : -1;
     r[1] = u;
     r[2] = t > 0 || closed ? star_at(star, info, u, t - 1) : -1;

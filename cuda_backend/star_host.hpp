@@ -138,11 +138,10 @@ class HostStarLayout {
   /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
   /// kernel's default for the search), spread over
   /// `threads` host threads; the result does not depend on their number.
-  /// With `phases` 2 or 3 (boxes only), the sites are walked in that many phases by local id
-  /// modulo `phases`, each phase but the last posting its triangles to the later phases' sites,
-  /// whose walks then read them (StarInbox), as the kernels' phases do.
+  /// With `two_phases` (boxes only), the even sites are walked first and post their triangles
+  /// to the odd ones, whose walks then read them (StarInbox), as the kernels' phases do.
   StarWorkTotals walk_all(unsigned budget = 0, unsigned threads = 1, StarSearch search = StarSearch::boxes,
-                          int phases_asked = 1) {
+                          bool two_phases = false) {
     if (budget == 0) budget = default_budget(search);
     const std::size_t n = points_.size();
     star_.assign(n * kStar, -1);
@@ -150,11 +149,10 @@ class HostStarLayout {
     threads = std::max(1u, threads);
     std::vector<StarWorkTotals> part(threads);
     work_of_.assign(n, 0);
-    const int phases = search == StarSearch::boxes ? std::clamp(phases_asked, 1, 3) : 1;
-    const std::size_t slots = phases > 1 ? StarInbox::slots_for(n, phases) : 0;
-    std::vector<int> inbox_slots(slots * kInboxWords, -1);
-    std::vector<std::uint32_t> inbox_counts(slots, 0);
-    StarInbox inbox{phases > 1 ? inbox_slots.data() : nullptr, inbox_counts.data(), false, 0, phases};
+    const int phases = two_phases && search == StarSearch::boxes ? 2 : 1;
+    std::vector<int> inbox_slots(phases == 2 ? (n / 2 + 1) * kInboxWords : 0, -1);
+    std::vector<std::uint32_t> inbox_counts(phases == 2 ? n / 2 + 1 : 0, 0);
+    StarInbox inbox{phases == 2 ? inbox_slots.data() : nullptr, inbox_counts.data(), false};
     int phase = 0;
     auto walk_range = [&](unsigned p) {
       StarWorkTotals& totals = part[p];
@@ -214,15 +212,12 @@ class HostStarLayout {
       for (unsigned p = 1; p < threads; ++p) workers.emplace_back(walk_range, p);
       walk_range(0);
       for (auto& worker : workers) worker.join();
-      // The phase's stars posted once it is done (the kernels post as they go: the same posts,
-      // since no site reads its inbox in the phase that writes it).
       if (inbox.posting()) {
-        for (std::size_t u = static_cast<std::size_t>(phase); u < n; u += static_cast<std::size_t>(phases))
+        for (std::size_t u = 0; u < n; u += 2)
           if (!star_deferred(info_[u]))
             post_star(inbox, star_.data(), info_[u], static_cast<int>(u), [](std::uint32_t* c) { return (*c)++; });
+        inbox.reading = true;
       }
-      inbox.reading = true;
-      inbox.phase = phase + 1;
     }
     StarWorkTotals totals;
     for (const StarWorkTotals& t : part) {

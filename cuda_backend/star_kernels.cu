@@ -282,7 +282,7 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   __shared__ unsigned int block_base;
   const int b = ends_first ? ends_first_block(static_cast<int>(blockIdx.x), static_cast<int>(gridDim.x))
                            : static_cast<int>(blockIdx.x);
-  const int i = (b * kInboxThreads + static_cast<int>(threadIdx.x)) * inbox.phases + inbox.phase;
+  const int i = (b * kInboxThreads + static_cast<int>(threadIdx.x)) * 2 + 1;
   bool search = false;
   if (i < n && !edge.holds(i)) {
     // Walked twice where the inbox holds the star, the row written the second time only: half
@@ -290,13 +290,9 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
     StarWalk w;
     int mine = 0;
     if (walk_from_inbox(pred, i, nullptr, inbox, &w, &mine)) {
-      int* const row = star + static_cast<std::size_t>(i) * kStar;
-      walk_from_inbox(pred, i, row, inbox, &w, &mine);
-      const std::uint32_t inf = star_info(w);
-      info[i] = inf;
+      walk_from_inbox(pred, i, star + static_cast<std::size_t>(i) * kStar, inbox, &w, &mine);
+      info[i] = star_info(w);
       owned[i] = mine;
-      // The middle of three phases posts its stars to the last's sites.
-      if (inbox.posting()) post_star(inbox, star, inf, i, [](std::uint32_t* c) { return atomicAdd(c, 1u); });
     } else {
       search = true;
     }
@@ -679,9 +675,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_star(n * kStar, stream);
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
-  // [9..11]: the edge's lists (EdgeCells); [12], [14]: the second and third phase's sites that
-  // search; [13]: the retry list's length after the first phase (first_phase_retry)
-  DeviceArray<unsigned int> d_counters(15, stream);
+  // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search; [13]: the
+  // retry list's length after the first phase (first_phase_retry)
+  DeviceArray<unsigned int> d_counters(14, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -858,8 +854,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     const char* block_order_env = std::getenv("EXPANSE_CUDA_BLOCK_ORDER");
     const bool ends_first = block_order_env ? std::strcmp(block_order_env, "ends") == 0 : !buckets.uniform();
     const char* phases_env = std::getenv("EXPANSE_CUDA_PHASES");
-    const int asked = phases_env ? std::clamp(std::atoi(phases_env), 1, 3) : n > (std::size_t{1} << 18) ? 2 : 1;
-    const int phases = order ? 1 : asked;
+    const bool two = phases_env ? std::atoi(phases_env) == 2 : n > (std::size_t{1} << 18);
+    const int phases = two && !order ? 2 : 1;
     // The first phase's sites that run past its budget are walked again (by warps) on the edge's
     // stream during the second phase, which needs nothing from them: their stars post nothing
     // (no walk posts after the first phase), and the second phase searches for what they would
@@ -868,9 +864,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // kuzmin's 5,740 sites 2.5 ms after the second phase, gaussian's 56 sites 1.6 ms).
     // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, for comparisons.
     const char* early_retry_env = std::getenv("EXPANSE_CUDA_EARLY_RETRY");
-    const bool early_retry = edge.keys && phases > 1 && two_passes &&
+    const bool early_retry = edge.keys && phases == 2 && two_passes &&
                              !(early_retry_env && std::strcmp(early_retry_env, "0") == 0);
-    const std::size_t inboxes = phases > 1 ? StarInbox::slots_for(n, phases) : 0;
+    const std::size_t inboxes = phases == 2 ? n / 2 + 1 : 0;
     DeviceArray<int> d_inbox_slots(inboxes * kInboxWords, stream);
     DeviceArray<std::uint32_t> d_inbox_counts(inboxes, stream);
     if (inboxes > 0) EXPANSE_CUDA(cudaMemsetAsync(d_inbox_counts.get(), 0, d_inbox_counts.bytes(), stream));
@@ -880,7 +876,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // 69.44 -> 67.13; at 1024^2 and 2048^2 (uniform, lattice) and on the 4096^2 lattice within
     // noise either way (call 9). EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
-    const bool inbox_first = phases > 1 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
+    const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
     // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
     // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
@@ -952,27 +948,24 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       // The second phase either walks every odd site, or first records those whose inboxes hold
       // their whole stars (inbox_star_kernel) and walks the rest from a list (`later_list`).
       auto walk_phases = [&](auto first, auto later, auto later_list, int* undecided) {
-        static constexpr const char* kPhaseNames[3][2] = {
-            {"phase 0", "phase 0"}, {"phase 1 from inboxes", "phase 1"}, {"phase 2 from inboxes", "phase 2"}};
         for (int phase = 0; phase < phases; ++phase) {
-          const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase > 0, phase, phases};
-          unsigned int* const search_count = d_counters.get() + (phase == 1 ? 12 : 14);
+          const StarInbox inbox{d_inbox_slots.get(), d_inbox_counts.get(), phase == 1};
           const std::size_t sites = (n - std::min<std::size_t>(n, phase) + phases - 1) / phases;
           if (sites == 0) continue;
           if (phase > 0 && inbox_first) {
             inbox_star_kernel<<<blocks_for(sites, kInboxThreads), kInboxThreads, 0, stream>>>(
                 d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
-                d_search, search_count, ends_first);
-            timeline.mark(kPhaseNames[phase][0], stream);
+                d_search, d_counters.get() + 12, ends_first);
+            timeline.mark("phase 1 from inboxes", stream);
             later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                d_search, search_count, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
+                d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
           } else {
             (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
                 pass_budget, order, pass, d_retry.get(), undecided, edge, phases, phase, inbox, ends_first);
           }
-          timeline.mark(kPhaseNames[phase][1], stream);
+          timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
           if (phase == 0 && edge_after_phase0) launch_edge();
           if (phase == 0) launch_first_phase_retry();
         }
@@ -1216,13 +1209,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   result.device_stages = timer.collect();
   timeline.print("star stage timeline (ms)");
   if (timeline.on()) {
-    // The lists' lengths beside the timeline (counters[7..14]).
-    unsigned int c[15];
+    // The lists' lengths beside the timeline (counters[7..12]).
+    unsigned int c[13];
     EXPANSE_CUDA(cudaMemcpy(c, d_counters.get(), sizeof c, cudaMemcpyDeviceToHost));
-    std::fprintf(stderr,
-                 "star stage lists: retry %u; undecided %u; edge %u; edge retry %u; edge undecided %u; phase 1 search %u; "
-                 "phase 2 search %u\n",
-                 c[7], c[8], c[9], c[10], c[11], c[12], c[14]);
+    std::fprintf(stderr, "star stage lists: retry %u; undecided %u; edge %u; edge retry %u; edge undecided %u; phase 1 search %u\n",
+                 c[7], c[8], c[9], c[10], c[11], c[12]);
   }
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   result.host_stages.push_back({"cuda upload (host)", ms(host_start, host_uploaded)});

@@ -130,9 +130,9 @@ int main(int argc, char** argv) {
                  "mean sites per grid cell (the layout's; CUDA's uniform cells hold 1.75 times as many for non-integer sites)");
   app.add_option("--first-pass", first_pass, "also count the light first pass with this budget (the kernel: 2^10; on quantile cells 2^11 above 2^20 sites, 2^12 above 2^23)");
   app.add_option("--threads", threads, "host threads walking the stars");
-  app.add_option("--phases", phase_counts, "phases of the walks: 1, 2 or 3 (boxes only; StarInbox)")
+  app.add_option("--phases", phase_counts, "phases of the walks: 1, or 2 (boxes only; StarInbox)")
       ->delimiter(',')
-      ->check(CLI::IsMember({1, 2, 3}));
+      ->check(CLI::IsMember({1, 2}));
   app.add_flag("--by-occupancy", by_occupancy,
                "also split the sites by how many sites their cell holds: share of sites and work a site per class");
   app.add_flag("--strips", strips,
@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
         expanse::detail::cuda::HostStarLayout layout(sites, hull, sites_per_bucket, grid == "quantile");
         layout.use_strips(strips);
         const StarSearch kind = search == "rings" ? StarSearch::rings : StarSearch::boxes;
-        const auto t = layout.walk_all(budget, threads, kind, phases);
+        const auto t = layout.walk_all(budget, threads, kind, phases == 2);
         nlohmann::ordered_json record = {
             {"experiment", "star_work"}, {"run_id", run_id}, {"backend", "cuda-work-count"},
             {"implementation", "expanse"}, {"device", "CUDA per-site kernel, counted on the CPU"},

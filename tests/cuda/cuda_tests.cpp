@@ -304,27 +304,6 @@ int main(int argc, char** argv) {
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
   unsetenv("EXPANSE_CUDA_INBOX_FIRST");
-  // Three phases: the middle one reads the first's posts and posts to the last's sites, from its
-  // recording kernel and from its walks; alone and with the first pass's hand-offs.
-  setenv("EXPANSE_CUDA_PHASES", "3", 1);
-  for (const char* first : {"", "8"}) {
-    for (const char* inbox_first : {"1", "0"}) {
-      if (*first) setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
-      setenv("EXPANSE_CUDA_INBOX_FIRST", inbox_first, 1);
-      const std::string label = std::string("three phases") + (*first ? ", first-pass budget 8" : "") +
-                                (*inbox_first == '1' ? ", inboxes first" : ", every later site walked") + ": ";
-      grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
-      grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
-      grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
-      if (small) continue;
-      for (const char* dist : {"clusters", "duplicates", "near_collinear", "thin_circle", "rotated_grid"})
-        grow_case(*backend, label + dist, generate_points(dist, 1500, 7), per_site, true, false);
-      grow_case(*backend, label + "uniform 200000", generate_points("uniform", 200000, 3), per_site, false, false);
-      grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
-    }
-  }
-  unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
-  unsetenv("EXPANSE_CUDA_INBOX_FIRST");
   unsetenv("EXPANSE_CUDA_PHASES");
 
   // The boundary strips (BoundaryStrips): at any size, so that the sanitizers' small cases take
