@@ -327,7 +327,7 @@ __global__ void copy_count_kernel(const unsigned int* from, unsigned int* to) { 
 /// candidate.
 ///
 /// `skip` (null: none): the list's first *skip sites are another launch's (the first phase's,
-/// walked beside the second phase: first_phase_retry).
+/// walked beside the second phase: launch_first_phase_retry).
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool Strips = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_retry_kernel(GridView g, const int* pred, int* star,
                                                                     std::uint32_t* info, int* owned,
@@ -676,7 +676,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<std::uint32_t> d_info(n, stream);
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search; [13]: the
-  // retry list's length after the first phase (first_phase_retry)
+  // retry list's length after the first phase (launch_first_phase_retry)
   DeviceArray<unsigned int> d_counters(14, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
@@ -860,8 +860,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // stream during the second phase, which needs nothing from them: their stars post nothing
     // (no walk posts after the first phase), and the second phase searches for what they would
     // have posted, as before. At the end the main stream's retry walks only the second phase's
-    // and the undecided walks' sites; it was the stage's tail (4096^2, H100, session 25 call 7:
-    // kuzmin's 5,740 sites 2.5 ms after the second phase, gaussian's 56 sites 1.6 ms).
+    // and the undecided walks' sites; it was the stage's tail. H100, 4096^2, session 26 calls 1
+    // and 7: the tail after the second phase 2.6 -> 1.5 ms (kuzmin, 5,740 sites) and 1.6 -> 0.9
+    // (gaussian, 56), GPU-only kuzmin 59.7 -> 59.1-59.4 ms, gaussian 44.4-44.5 -> 43.8, gaussian
+    // 2048^2 15.4 -> 14.1; kuzmin 2048^2 0.3 ms slower, uniform inputs (no retries) unchanged.
+    // Session 19 (call 6) had tried a third stream and lost on kuzmin.
     // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, for comparisons.
     const char* early_retry_env = std::getenv("EXPANSE_CUDA_EARLY_RETRY");
     const bool early_retry = edge.keys && phases == 2 && two_passes &&
@@ -930,7 +933,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         timeline.mark("edge retry", es);
       };
       // The first phase's retries on the edge's stream, once its own walks are done, beside the
-      // second phase (first_phase_retry): the list as the first phase leaves it (counters[13]);
+      // second phase: the list as the first phase leaves it (its length kept in counters[13]);
       // the main stream's retry takes what the second phase and the undecided walks add.
       auto launch_first_phase_retry = [&] {
         if (!early_retry) return;
