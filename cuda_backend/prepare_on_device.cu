@@ -71,13 +71,9 @@ __global__ void gather_scaled_kernel(const int* sorted_ids, const double2* raw, 
 /// (kuzmin at 4096^2: most of its points lie in such runs), and first_equal_kernel is not run:
 /// its look back through the shorter runs around them had cost kuzmin 2.4 ms at 4096^2 on the
 /// H100 for results the hash table then replaced (session 14 call 2).
-///
-/// One atomic a warp: on kuzmin most positions find a long run, and their atomics on the one flag
-/// took the kernel 271 us at 4096^2 (ncu, H100, session 26 call 9) for a read of the codes.
 __global__ void long_run_kernel(const std::uint64_t* codes, int n, unsigned int* flags) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
-  const bool long_run = p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p];
-  if (__any_sync(0xffffffffu, long_run) && (threadIdx.x & 31) == 0) atomicOr(flags, 1u);
+  if (p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p]) atomicOr(flags, 1u);
 }
 
 /// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
