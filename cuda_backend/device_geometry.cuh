@@ -247,6 +247,21 @@ struct GridView {
   }
 };
 
+/// A grid's kind as a walk's code knows it: `any` decides by GridView::xb at every look-up;
+/// `uniform` walks a copy whose quantile boundaries are null constants, so that the compiler
+/// drops the quantile look-ups (the caller must know that the grid has uniform cells).
+enum class GridKind { any, uniform };
+
+template <GridKind Kind>
+EXPANSE_DEVICE_FORCE GridView of_kind(const GridView& g) {
+  GridView v = g;
+  if constexpr (Kind == GridKind::uniform) {
+    v.xb = nullptr;
+    v.yb = nullptr;
+  }
+  return v;
+}
+
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
 EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {

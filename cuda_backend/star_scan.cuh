@@ -167,10 +167,16 @@ enum class Walker { thread, warp };
 /// second pass take it, on grids of equal cells (star_kernels.cu): the sites of the phases'
 /// kernels are interior ones, and their registers are the star kernels' limit. These walks also
 /// start a long edge's search along the edge (kLongEdgeCells).
+///
+/// Cells: the grid's kind where the caller knows it. The kernels walk each kind in a copy of the
+/// walk of its own (GridKind::uniform compiled without the quantile look-ups), chosen per walk by
+/// a branch the whole kernel takes the same way: in one walk for both, the look-ups' code and
+/// registers weighed on the uniform grid's walks too.
 template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
-          bool Strips = false>
-EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& g, const int* pred, int i, int* row, unsigned budget,
+          bool Strips = false, GridKind Cells = GridKind::any>
+EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, int i, int* row, unsigned budget,
                                         const StarInbox& inbox = {}) {
+  const GridView g = of_kind<Cells>(grid);
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
@@ -710,11 +716,12 @@ EXPANSE_HOST_DEVICE unsigned default_budget(StarSearch search) {
 }
 
 template <StarSearch Search, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
-          bool Strips = false>
+          bool Strips = false, GridKind Cells = GridKind::any>
 EXPANSE_DEVICE_FORCE StarWalk walk_star_by(const GridView& g, const int* pred, int i, int* row, unsigned budget,
                                            const StarInbox& inbox = {}) {
   if constexpr (Search == StarSearch::boxes)
-    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
+    return walk_star_boxes<Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips, Cells>(g, pred, i, row, budget,
+                                                                                                inbox);
   else
     return walk_star(g, pred, i, row, budget);
 }
