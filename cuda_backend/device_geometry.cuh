@@ -222,18 +222,6 @@ struct GridView {
     if (t >= static_cast<double>(gy - 1)) return gy - 1;
     return static_cast<int>(t);
   }
-  /// Whether every x with lo <= x <= hi lies in columns c0 .. c1 (0 <= c0 <= c1 < gx): exactly
-  /// cell_x(lo) >= c0 && cell_x(hi) <= c1. On a quantile axis that is two comparisons with the
-  /// columns' own boundaries (column j holds xb[j] <= x < xb[j + 1], and the boundaries are
-  /// sorted), where looking lo and hi up is two guided binary searches.
-  EXPANSE_DEVICE_FORCE bool x_range_in(double lo, double hi, int c0, int c1) const {
-    if (xb) return (c0 == 0 || load_readonly(xb + c0) <= lo) && (c1 == gx - 1 || hi < load_readonly(xb + c1 + 1));
-    return cell_x(lo) >= c0 && cell_x(hi) <= c1;
-  }
-  EXPANSE_DEVICE_FORCE bool y_range_in(double lo, double hi, int r0, int r1) const {
-    if (yb) return (r0 == 0 || load_readonly(yb + r0) <= lo) && (r1 == gy - 1 || hi < load_readonly(yb + r1 + 1));
-    return cell_y(lo) >= r0 && cell_y(hi) <= r1;
-  }
   // Conservative real bounds of a cell: every site bucketed into column x has lo <= p.x <= hi.
   EXPANSE_DEVICE_FORCE void x_bounds(int x, double* lo, double* hi) const {
     if (xb) {

@@ -229,37 +229,30 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   int strip = -1;
   CircleRegion last_region{};
 
-  // Where a site better than `best` could lie, in coordinates, with `bounds` set to match; false
-  // when that region is unbounded (the whole grid).
-  struct Extent {
-    double x_lo, y_lo, x_hi, y_hi;
-  };
-  auto extent_of_best = [&](Extent* e) {
+  // The cells where a site better than `best` could lie, with `bounds` set to match.
+  auto region_of_best = [&]() {
+    CellBox region = whole;
     if (phase == nearest) {
       // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
       // sqrt and of the box's corners, and underflow in d2, all covered).
       const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
-      *e = {ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach};
+      region = cells_of(g, ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach);
       bounds.disc = true;
       bounds.ox = ps.x;
       bounds.oy = ps.y;
       bounds.reach = reach;
-      return true;
+    } else {
+      CircleRegion r;
+      if (circle_region(pa, pb, best_p, &r)) {
+        if constexpr (Strips) last_region = r;
+        region = cells_of(g, r.x_lo, r.y_lo, r.x_hi, r.y_hi);
+        bounds.disc = true;
+        bounds.ox = r.ox;
+        bounds.oy = r.oy;
+        bounds.reach = r.reach;
+      }
     }
-    CircleRegion r;
-    if (!circle_region(pa, pb, best_p, &r)) return false;
-    if constexpr (Strips) last_region = r;
-    *e = {r.x_lo, r.y_lo, r.x_hi, r.y_hi};
-    bounds.disc = true;
-    bounds.ox = r.ox;
-    bounds.oy = r.oy;
-    bounds.reach = r.reach;
-    return true;
-  };
-  // The cells where a site better than `best` could lie, with `bounds` set to match.
-  auto region_of_best = [&]() {
-    Extent e{};
-    return extent_of_best(&e) ? cells_of(g, e.x_lo, e.y_lo, e.x_hi, e.y_hi) : whole;
+    return region;
   };
 
   // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
@@ -578,26 +571,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
                     min(visited.y1 + grow_y, whole.y1)};
         } else {
-          CellBox region;
-          if constexpr (Cells == GridKind::uniform) {
-            region = region_of_best();
-            found = given || box_inside(region, visited);
-          } else {
-            // Whether the region's cells lie inside the visited box, without looking them up
-            // (GridView::x_range_in: on quantile cells, four boundary loads where the look-ups
-            // are four guided binary searches); they are looked up only to plan the next box.
-            Extent e{};
-            const bool bounded = extent_of_best(&e);
-            found = given || (bounded ? visited.x0 <= visited.x1 && visited.y0 <= visited.y1 &&
-                                            g.x_range_in(e.x_lo, e.x_hi, visited.x0, visited.x1) &&
-                                            g.y_range_in(e.y_lo, e.y_hi, visited.y0, visited.y1)
-                                      : box_inside(whole, visited));
-            if (!found) region = bounded ? cells_of(g, e.x_lo, e.y_lo, e.x_hi, e.y_hi) : whole;
-          }
+          const CellBox region = region_of_best();
+          found = given || box_inside(region, visited);
           given = false;
-          if (found) {
-            // the search is over (below)
-          } else {
           if constexpr (Strips) {
             std::uint32_t end = 0;
             if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
@@ -612,7 +588,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
           target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
                     min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
-          }
         }
       }
       y = target.y0 - 1;
