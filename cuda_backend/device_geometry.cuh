@@ -249,8 +249,10 @@ struct GridView {
 
 /// A grid's kind as a walk's code knows it: `any` decides by GridView::xb at every look-up;
 /// `uniform` walks a copy whose quantile boundaries are null constants, so that the compiler
-/// drops the quantile look-ups (the caller must know that the grid has uniform cells).
-enum class GridKind { any, uniform };
+/// drops the quantile look-ups; `guided` (quantile cells with both guides) one that the
+/// compiler is told has them, so that it drops the uniform cells' arithmetic and the unguided
+/// binary search. The caller must know which kind the grid is.
+enum class GridKind { any, uniform, guided };
 
 template <GridKind Kind>
 EXPANSE_DEVICE_FORCE GridView of_kind(const GridView& g) {
@@ -259,7 +261,17 @@ EXPANSE_DEVICE_FORCE GridView of_kind(const GridView& g) {
     v.xb = nullptr;
     v.yb = nullptr;
   }
+#if defined(__CUDA_ARCH__)
+  if constexpr (Kind == GridKind::guided)
+    __builtin_assume(v.xb != nullptr && v.yb != nullptr && v.x_guide.first != nullptr && v.y_guide.first != nullptr);
+#endif
   return v;
+}
+
+/// The kind a walk on `g` may be compiled for.
+EXPANSE_DEVICE_FORCE GridKind kind_of(const GridView& g) {
+  if (!g.xb) return GridKind::uniform;
+  return g.x_guide.first && g.y_guide.first ? GridKind::guided : GridKind::any;
 }
 
 

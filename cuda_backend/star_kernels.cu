@@ -57,17 +57,23 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   StarWalk w;
   // A walk of its own for each kind of grid (GridKind); the branch goes the same way for every
   // thread of the launch.
+  const GridKind kind = kind_of(g);
   if constexpr (By == Walker::warp) {
-    if (g.xb)
-      w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips>(g, pred, i, row, budget);
-    else
+    if (kind == GridKind::uniform)
       w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::uniform>(g, pred, i, row, budget);
-  } else {
-    if (g.xb)
-      w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
+    else if (kind == GridKind::guided)
+      w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::guided>(g, pred, i, row, budget);
     else
+      w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips>(g, pred, i, row, budget);
+  } else {
+    if (kind == GridKind::uniform)
       w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips, GridKind::uniform>(g, pred, i, row, budget,
                                                                                                 inbox);
+    else if (kind == GridKind::guided)
+      w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips, GridKind::guided>(g, pred, i, row, budget,
+                                                                                               inbox);
+    else
+      w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   }
   const unsigned predicates = w.predicates, cells = w.work;
   // One atomic per warp for the predicate count (first attempts of retried sites included);
