@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Session 27 call 4: the final build (a walk of its own for each kind of grid: uniform cells,
+# quantile cells with both guides, and any other) against session 26's final build (baseline/,
+# c77244f): 4096^2 every input, two rounds alternated; 512^2 to 2048^2; timelines; CUDA tests,
+# the four sanitizers on their small cases, the conformance suite on CUDA.
+set -u
+bash bench/device/run-on-device.sh env > $OUT/call4-env.txt 2>&1
+export LD_LIBRARY_PATH=$PWD/.devrun/lib
+cat .devrun/COMMIT .devrun/baseline/COMMIT
+J=$OUT/call4-final.jsonl
+tag() { python3 -c "
+import sys,json
+for l in sys.stdin:
+  try: r=json.loads(l)
+  except Exception: continue
+  r['variant']='$1'; print(json.dumps(r))" >> $J; }
+B=.devrun/expanse_bench_cuda O=.devrun/baseline/expanse_bench_cuda
+for round in 1 2; do
+  timeout 150 $B --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag final
+  timeout 150 $O --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag base
+done
+timeout 120 $B --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag final
+timeout 120 $O --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag base
+python3 - $J <<'PY'
+import json,sys,collections
+d=collections.defaultdict(list)
+for l in open(sys.argv[1]):
+  r=json.loads(l)
+  s=r.get('pipeline_device_stages_ms') or {}
+  g=sum(v for k,v in s.items() if k not in ('upload','download'))
+  d[(r['distribution'], r['side'], r['variant'])].append('%.2f (stars %.2f, def %d, seam %.4f%%, h2h %.1f)'%(g,s.get('stars',0),r['deferred'],100*r.get('seam_share',0),r.get('host_to_host_ms',0)))
+for k in sorted(d): print(*k, ' / '.join(d[k]))
+PY
+for dist in uniform gaussian kuzmin; do
+  echo "== timeline $dist"
+  EXPANSE_CUDA_STAR_TIMELINE=1 timeout 60 $B --sizes 4096 --dists $dist --reps 2 2>&1 >/dev/null | grep "star stage" | tail -2
+done > $OUT/call4-timeline.txt 2>&1
+cat $OUT/call4-timeline.txt
+timeout 200 .devrun/expanse_cuda_tests > $OUT/call4-cuda-tests.log 2>&1; echo "cuda tests rc $?"; tail -1 $OUT/call4-cuda-tests.log
+for tool in memcheck racecheck initcheck synccheck; do
+  timeout 150 /usr/local/cuda/bin/compute-sanitizer --tool $tool --error-exitcode 9 .devrun/expanse_cuda_tests --small > /tmp/san.log 2>&1; echo "$tool rc $?"; tail -1 /tmp/san.log; (echo "=== $tool"; cat /tmp/san.log) >> $OUT/call4-sanitizers.log
+done
+timeout 150 .devrun/expanse_conformance --backend cuda > $OUT/call4-conformance.log 2>&1; echo "conformance rc $?"; tail -2 $OUT/call4-conformance.log
