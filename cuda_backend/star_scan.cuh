@@ -468,6 +468,92 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     slot = slot_end = 0;
   };
 #endif
+  // The nearest neighbour, searched before the walk's loops by a thread's walk: its candidates
+  // judged by squared distance alone (in the walk's candidate loop they paid for the apex
+  // filters as well). Where a candidate needs the exact comparison, the work would pass the
+  // budget, or a box grows past kBigScanCells, the walk's loops take the search over where it
+  // stands, so the search visits, decides and counts exactly what it did in them.
+  if constexpr (By == Walker::thread) {
+    while (!given && !big_scan) {
+      bool over = false;
+      for (;;) {  // rows of the box
+        if (slot >= slot_end) {
+          if (work + 1 > budget) {
+            over = true;
+            break;
+          }
+          ++work;
+          const bool in_rows = y >= visited.y0 && y <= visited.y1;
+          if (part == 0 && in_rows) {
+            part = 1;
+          } else {
+            part = 0;
+            ++y;
+          }
+          if (y > target.y1) break;
+          segment_of(y, part, &slot, &slot_end);
+        }
+        for (; slot < slot_end; ++slot) {
+          const int ip = static_cast<int>(slot);
+          const double2 p = load_site(g.points, ip);
+          const double dx = ex::sub(p.x, ps.x), dy = ex::sub(p.y, ps.y);
+          const double d2 = ex::add(ex::mul(dx, dx), ex::mul(dy, dy));
+          int verdict;
+          if constexpr (ExactLattice)
+            verdict = best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best) ? 1 : 0;
+          else
+            verdict = best < 0 ? 1
+                      : best_d2 < 0x1p-960 ? 2
+                      : d2 < best_d2 * (1.0 - 1e-12) ? 1
+                      : d2 > best_d2 * (1.0 + 1e-12) ? 0 : 2;
+          if (verdict != 0 && (ip == i || ip == best)) verdict = 0;
+          if (verdict == 2 || work + 1 > budget) {
+            over = true;
+            break;
+          }
+          ++work;
+          if (verdict == 1) {
+            best = ip;
+            best_p = p;
+            best_d2 = d2;
+          }
+        }
+        if (over) break;
+      }
+      if (over) break;
+      // The box is scanned: as the search loop below, for the nearest neighbour.
+      visited = target;
+      if (best < 0) {
+        if (box_inside(whole, visited)) {  // s alone: the walk's loops end it (one unit more)
+          y = target.y1;
+          break;
+        }
+        const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
+        target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
+                  min(visited.y1 + grow_y, whole.y1)};
+      } else {
+        const CellBox region = region_of_best();
+        if (box_inside(region, visited)) {
+          // Found: the walk's loops take the first step from it, as from an inbox's neighbour,
+          // after an empty scan that counts one unit.
+          target = CellBox{0, 0, -1, -1};
+          y = -1;
+          part = 1;
+          slot = slot_end = 0;
+          given = true;
+          --work;
+          break;
+        }
+        const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
+        target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
+                  min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
+      }
+      y = target.y0 - 1;
+      part = 1;
+      slot = slot_end = 0;
+      big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
+    }
+  }
   for (;;) {    // exact loop
     for (;;) {  // search loop
       for (;;) {  // scan loop
