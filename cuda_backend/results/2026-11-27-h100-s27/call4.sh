@@ -3,7 +3,7 @@
 # walk's loops by squared distance alone; D (variantD/, 1ab934b): a walk of its own for each kind
 # of grid (uniform cells, quantile cells with both guides, any other), no guided copy for
 # lattices; against session 26's final build (baseline/, c77244f): 4096^2 every input, two rounds
-# alternated; 512^2 to 2048^2; timelines; E's CUDA tests, four sanitizers and conformance.
+# alternated; 512^2 to 2048^2; timelines; E's CUDA tests (the sanitizers and conformance: call 5).
 set -u
 bash bench/device/run-on-device.sh env > $OUT/call4-env.txt 2>&1
 export LD_LIBRARY_PATH=$PWD/.devrun/lib
@@ -40,7 +40,3 @@ for dist in uniform kuzmin; do for b in E:$B D:$D; do
 done; done > $OUT/call4-timeline.txt 2>&1
 cat $OUT/call4-timeline.txt
 timeout 200 .devrun/expanse_cuda_tests > $OUT/call4-cuda-tests.log 2>&1; echo "cuda tests rc $?"; tail -1 $OUT/call4-cuda-tests.log
-for tool in memcheck racecheck initcheck synccheck; do
-  timeout 150 /usr/local/cuda/bin/compute-sanitizer --tool $tool --error-exitcode 9 .devrun/expanse_cuda_tests --small > /tmp/san.log 2>&1; echo "$tool rc $?"; tail -1 /tmp/san.log; (echo "=== $tool"; cat /tmp/san.log) >> $OUT/call4-sanitizers.log
-done
-timeout 150 .devrun/expanse_conformance --backend cuda > $OUT/call4-conformance.log 2>&1; echo "conformance rc $?"; tail -2 $OUT/call4-conformance.log
