@@ -56,10 +56,10 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   // A walk of its own for each kind of grid (GridKind), the branch taken the same way by every
-  // thread of a launch: H100, 4096^2, uniform GPU-only 34.95 -> 34.66 ms, kuzmin 59.1 -> 55.2,
-  // gaussian 43.7 -> 42.8, 512^2 uniform 1.90 -> 1.71 (session 27 calls 2-3). Integer lattices
-  // walk uniform cells, and their kernels have no guided copy: with one, the 4096^2 lattice's
-  // walks took 16.6 ms against 15.5.
+  // thread of a launch: H100, 4096^2 GPU-only, uniform 35.0 -> 34.6 ms, kuzmin 59.1 -> 55.2,
+  // gaussian 43.8 -> 42.7, 512^2 uniform 1.83 -> 1.72 (session 27 call 4). Integer lattices walk
+  // uniform cells, so their kernels have no guided copy; the 4096^2 lattice still went 20.7 ->
+  // 21.8 ms (with the uniform copy alone it had gained: 20.8 -> 20.5, call 2), not understood.
   const GridKind kind = kind_of(g);
   if constexpr (By == Walker::warp) {
     if (kind == GridKind::uniform)
