@@ -58,9 +58,10 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   // A walk of its own for each kind of grid (GridKind), the branch taken the same way by every
   // thread of a launch: H100, 4096^2 GPU-only, uniform 35.0 -> 34.6 ms, kuzmin 59.1 -> 55.2,
   // gaussian 43.8 -> 42.7, 512^2 uniform 1.83 -> 1.72 (session 27 call 4). Integer lattices walk
-  // uniform cells, so their kernels have no guided copy; the 4096^2 lattice still went 20.7 ->
-  // 21.8 ms (with the uniform copy alone it had gained: 20.8 -> 20.5, call 2), not understood.
-  const GridKind kind = kind_of(g);
+  // uniform cells, so their kernels branch on the boundaries alone, as they did with the uniform
+  // copy alone (20.8 -> 20.5 ms at 4096^2, call 2): with the three-way branch and no guided copy
+  // the lattice took 21.8 ms (call 4), ptxas placing a little more spill code in its walks.
+  const GridKind kind = ExactLattice ? (g.xb ? GridKind::any : GridKind::uniform) : kind_of(g);
   if constexpr (By == Walker::warp) {
     if (kind == GridKind::uniform)
       w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::uniform>(g, pred, i, row, budget);
