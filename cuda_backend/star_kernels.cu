@@ -59,8 +59,8 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
   // thread of a launch: H100, 4096^2 GPU-only, uniform 35.0 -> 34.6 ms, kuzmin 59.1 -> 55.2,
   // gaussian 43.8 -> 42.7, 512^2 uniform 1.83 -> 1.72 (session 27 call 4). Integer lattices walk
   // uniform cells, so their kernels branch on the boundaries alone, as they did with the uniform
-  // copy alone (20.8 -> 20.5 ms at 4096^2, call 2): with the three-way branch and no guided copy
-  // the lattice took 21.8 ms (call 4), ptxas placing a little more spill code in its walks.
+  // copy alone: with the three-way branch in front of the same two walks the 4096^2 lattice took
+  // 21.8 ms (call 4), with this one 20.7 (call 8), ptxas placing its spill code a little apart.
   const GridKind kind = ExactLattice ? (g.xb ? GridKind::any : GridKind::uniform) : kind_of(g);
   if constexpr (By == Walker::warp) {
     if (kind == GridKind::uniform)
