@@ -206,7 +206,6 @@ int main(int argc, char** argv) {
       cuda::RunCounters counters;
       std::size_t deferred = 0, triangles = 0;
       bool short_sort = false;  // the pipeline's preparation on the device sorted by short keys
-      bool adaptive_sort = false;  // ... by adaptive keys (prepare_on_device.cu)
       std::string error;
       try {
         for (int r = 0; r <= reps; ++r) {  // r == 0: warm-up
@@ -238,7 +237,6 @@ int main(int argc, char** argv) {
             Mesh mesh = triangulator.triangulate(points);
             const double p1 = now_ms();
             short_sort = cuda::last_run_counters().short_morton_sort;
-            adaptive_sort = cuda::last_run_counters().adaptive_morton_sort;
             if (r == 0) continue;
             h2h_ms.push_back(p1 - p0);
             seam_share.push_back(mesh.triangles.empty() ? 0.0
@@ -287,15 +285,14 @@ int main(int argc, char** argv) {
         std::printf("\"host_to_host_ms\":%.3f,\"host_to_host_reused_ms\":%.3f,\"host_to_host_host_prepare_ms\":%.3f,"
                     "\"seam_share\":%.6g,",
                     median(h2h_ms), median(h2h_reused_ms), median(h2h_host_prepare_ms), median(seam_share));
-      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,\"uniform_cells\":%s,\"short_morton_sort\":%s,\"adaptive_morton_sort\":%s,",
+      std::printf("\"triangles\":%zu,\"deferred\":%zu,\"predicates\":%llu,\"bytes_to_device\":%llu,\"bytes_to_host\":%llu,\"max_cells_per_site\":%llu,\"sites_over_4096_cells\":%llu,\"sites_over_budget\":%llu,\"uniform_cells\":%s,\"short_morton_sort\":%s,",
                   triangles, deferred, static_cast<unsigned long long>(counters.predicates),
                   static_cast<unsigned long long>(counters.bytes_to_device),
                   static_cast<unsigned long long>(counters.bytes_to_host),
                   static_cast<unsigned long long>(counters.max_cells_per_site),
                   static_cast<unsigned long long>(counters.sites_over_4096_cells),
                   static_cast<unsigned long long>(counters.sites_over_budget),
-                  counters.uniform_cells ? "true" : "false", short_sort ? "true" : "false",
-                  adaptive_sort ? "true" : "false");
+                  counters.uniform_cells ? "true" : "false", short_sort ? "true" : "false");
       auto dump = [](const char* key, const std::map<std::string, std::vector<double>>& m, bool comma) {
         std::printf("\"%s\":{", key);
         bool first = true;

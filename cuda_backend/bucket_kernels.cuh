@@ -74,31 +74,58 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, Ta
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
-/// One axis' guide (grid/quantile_guide.hpp), in one block: both keys' tables, in `logarithmic`
-/// and `even` (quantile_guide_capacity entries each), their costs, and the cheaper key in *chosen
-/// (build_quantile_guide on the device). bounds[1 .. cells) are the boundaries.
-__global__ void guide_kernel(const double* bounds, int cells, double lo, double hi, int* logarithmic, int* even,
-                             QuantileGuideKey* chosen) {
-  __shared__ QuantileGuideKey keys[2];
-  __shared__ unsigned long long costs[2];
-  if (threadIdx.x == 0) {
-    keys[0] = plan_logarithmic_quantile_guide(bounds + 1, cells, lo, hi);
-    keys[1] = plan_even_quantile_guide(lo, hi, cells);
-    costs[0] = costs[1] = 0;
+/// A quantile axis for its guide (grid/quantile_guide.hpp): bounds[1 .. cells) are its
+/// boundaries; `logarithmic` and `even` take the two keys' tables (quantile_guide_capacity
+/// entries each).
+struct GuideAxis {
+  const double* bounds;
+  int cells;
+  double lo, hi;
+  int* logarithmic;
+  int* even;
+
+  EXPANSE_DEVICE_FORCE QuantileGuideKey key(int logarithmic_key) const {
+    return logarithmic_key ? plan_logarithmic_quantile_guide(bounds + 1, cells, lo, hi)
+                           : plan_even_quantile_guide(lo, hi, cells);
+  }
+};
+
+/// Both axes' guides' tables, a thread an entry (blockIdx.y: the axis; blockIdx.z: 0 the
+/// logarithmic key, 1 the even one), and each table's cost summed into costs[2 * axis + z]
+/// (zeroed before; build_quantile_guide on the device). In one block an axis, the two axes one
+/// after the other, the tables took 0.18 ms of kuzmin's bucketing at 4096^2 (H100, ncu, session 28
+/// call 1): each entry is a binary search over the boundaries.
+constexpr int kGuideThreads = 256;
+__global__ void __launch_bounds__(kGuideThreads) guide_tables_kernel(GuideAxis x, GuideAxis y,
+                                                                     unsigned long long* costs) {
+  __shared__ unsigned long long block_cost;
+  const GuideAxis& axis = blockIdx.y == 0 ? x : y;
+  const QuantileGuideKey key = axis.key(blockIdx.z == 0);
+  int* const table = blockIdx.z == 0 ? axis.logarithmic : axis.even;
+  const int k = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+  if (threadIdx.x == 0) block_cost = 0;
+  __syncthreads();
+  if (k <= 2 * key.half) {
+    const int first = quantile_guide_entry(axis.bounds + 1, axis.cells - 1, key, k);
+    table[k] = first;
+    if (k < 2 * key.half) {
+      const long long cost =
+          quantile_guide_columns_cost(quantile_guide_entry(axis.bounds + 1, axis.cells - 1, key, k + 1) - first);
+      if (cost > 0) atomicAdd(&block_cost, static_cast<unsigned long long>(cost));
+    }
   }
   __syncthreads();
-  int* const tables[2] = {logarithmic, even};
-  for (int t = 0; t < 2; ++t)
-    for (int k = threadIdx.x; k <= 2 * keys[t].half; k += blockDim.x)
-      tables[t][k] = quantile_guide_entry(bounds + 1, cells - 1, keys[t], k);
-  __syncthreads();
-  for (int t = 0; t < 2; ++t) {
-    unsigned long long cost = 0;
-    for (int k = threadIdx.x; k < 2 * keys[t].half; k += blockDim.x) cost += quantile_guide_bin_cost(tables[t], k);
-    atomicAdd(&costs[t], cost);
-  }
-  __syncthreads();
-  if (threadIdx.x == 0) *chosen = costs[1] < costs[0] ? keys[1] : keys[0];
+  if (threadIdx.x == 0 && block_cost > 0) atomicAdd(costs + 2 * blockIdx.y + blockIdx.z, block_cost);
+}
+
+/// chosen[a]: axis a's cheaper key (the logarithmic one where the costs tie), as
+/// build_quantile_guide chooses.
+__global__ void guide_choose_kernel(GuideAxis x, GuideAxis y, const unsigned long long* costs,
+                                    QuantileGuideKey* chosen) {
+  const int a = static_cast<int>(threadIdx.x);
+  if (a > 1) return;
+  const GuideAxis& axis = a == 0 ? x : y;
+  chosen[a] = costs[2 * a + 1] < costs[2 * a] ? axis.key(0) : axis.key(1);
 }
 
 constexpr int kBucketThreads = 256;
@@ -189,11 +216,18 @@ class CellBuckets {
       g.yb = yb_.get();
       if (!guide_off_asked() && quantile_guided(q.gx) && quantile_guided(q.gy)) {
         // Each axis' guide chooses its key on the device; the host waits for the choice (quantile
-        // cells only: the two sample sorts and the tables, well under a millisecond).
-        guide_kernel<<<1, 1024, 0, stream>>>(xb_.get(), q.gx, g.min_x, g.max_x, x_guide_.get(), x_even_.get(),
-                                             guide_keys);
-        guide_kernel<<<1, 1024, 0, stream>>>(yb_.get(), q.gy, g.min_y, g.max_y, y_guide_.get(), y_even_.get(),
-                                             guide_keys + 1);
+        // cells only: the two sample sorts and the tables, well under a millisecond). The costs
+        // are summed in the evenness test's histogram, done with (an array of their own, however
+        // small, can move the pool's placement of the bucketing's arrays: StripBuffers).
+        static_assert(kEvennessBins * kEvennessBins * sizeof(unsigned int) >= 4 * sizeof(unsigned long long));
+        auto* const costs = reinterpret_cast<unsigned long long*>(bins_.get());
+        const GuideAxis x{xb_.get(), q.gx, g.min_x, g.max_x, x_guide_.get(), x_even_.get()};
+        const GuideAxis y{yb_.get(), q.gy, g.min_y, g.max_y, y_guide_.get(), y_even_.get()};
+        EXPANSE_CUDA(cudaMemsetAsync(costs, 0, 4 * sizeof(unsigned long long), stream));
+        const int entries = quantile_guide_capacity(std::max(q.gx, q.gy));
+        guide_tables_kernel<<<dim3((entries + kGuideThreads - 1) / kGuideThreads, 2, 2), kGuideThreads, 0, stream>>>(
+            x, y, costs);
+        guide_choose_kernel<<<1, 32, 0, stream>>>(x, y, costs, guide_keys);
         EXPANSE_CUDA(cudaGetLastError());
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         g.x_guide = {guide_keys[0].logarithmic ? x_guide_.get() : x_even_.get(), guide_keys[0]};

@@ -159,8 +159,7 @@ struct RunCounters {
   std::uint64_t open_pairs_linked = 0;      ///< edges between two deferred sites' triangles, linked
   std::uint64_t open_edges = 0;             ///< edges the device audit found open inside the hull
   bool uniform_cells = false;               ///< the evenness test chose uniform cells
-  bool short_morton_sort = false;           ///< the device's preparation sorted by 32-bit keys
-  bool adaptive_morton_sort = false;        ///< ... planned from a sample of the codes (AdaptiveKeys)
+  bool short_morton_sort = false;           ///< the device's preparation sorted by short keys
 };
 RunCounters& last_run_counters();
 

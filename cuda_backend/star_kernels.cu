@@ -46,16 +46,13 @@ enum class WalkPass { only, first, retry };
 /// the warps; `undecided_list` (list_counts[1]) a light first pass's sites that met a candidate
 /// only the exact path decides, for a thread each (star_list_kernel). The lists of the grid's
 /// edge (EdgeCells) are apart from the rest's: counters[7..8] count the rest's, [10..11] the edge's.
-///
-/// RetryHere: a site that would go to retry_list is left in *retry_here instead, for the caller's
-/// warp to walk at once (star_list_kernel).
 template <StarSearch Search, Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false,
-          bool ReadsInbox = false, bool Strips = false, bool RetryHere = false>
+          bool ReadsInbox = false, bool Strips = false>
 __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pred, int i, int* star,
                                                 std::uint32_t* info, int* owned, unsigned int* counters,
                                                 unsigned budget, WalkPass pass, int* retry_list,
                                                 int* undecided_list, unsigned int* list_counts,
-                                                const StarInbox& inbox = {}, int* retry_here = nullptr) {
+                                                const StarInbox& inbox = {}) {
   int* row = star + static_cast<std::size_t>(i) * kStar;
   StarWalk w;
   // A walk of its own for each kind of grid (GridKind), the branch taken the same way by every
@@ -104,8 +101,6 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     if (walked_again) {
       if (undecided_list && w.handed_on && cells <= budget)
         undecided_list[atomicAdd(list_counts + 1, 1u)] = i;
-      else if constexpr (RetryHere)
-        *retry_here = i;
       else
         retry_list[atomicAdd(list_counts, 1u)] = i;
       return;
@@ -265,17 +260,6 @@ __global__ void __launch_bounds__(128, MinBlocks) star_kernel(GridView g, const 
       g, pred, i, star, info, owned, counters, budget, pass, retry_list, undecided_list, counters + 7, inbox);
 }
 
-/// Site i walked again by the calling warp, with the full `budget` (as star_retry_kernel walks
-/// its list). Out of line: the warp's walk is a path few warps of a list's kernel take, and
-/// inlined its registers would weigh on the threads' walks.
-template <StarSearch Search, bool ExactLattice>
-__device__ __noinline__ void walk_again_by_warp(const GridView& g, const int* pred, int i, int* star,
-                                                std::uint32_t* info, int* owned, unsigned int* counters,
-                                                unsigned budget) {
-  walk_and_record<Search, Walker::warp, ExactLattice>(g, pred, i, star, info, owned, counters, budget,
-                                                      WalkPass::retry, nullptr, nullptr, nullptr);
-}
-
 /// The sites list[0 .. *count), a thread each, as a first pass walks them: those that run past
 /// `budget` go on to the warps (retry_list), and with the light walk (FirstPass) those that meet
 /// an undecided candidate to undecided_list; list_counts as walk_and_record's. Grid-stride, so
@@ -286,13 +270,8 @@ __device__ __noinline__ void walk_again_by_warp(const GridView& g, const int* pr
 ///  - the first pass of the grid's edge (EdgeCells), on its own stream.
 ///  - the second phase's sites that need a search (inbox_star_kernel), reading their inboxes
 ///    (ReadsInbox), in the phase's pass.
-/// RetryHere (the second phase's, on grids without strips): a site that runs past `budget` is
-/// walked again at once by its warp, with `retry_budget`, instead of listed for the retry after
-/// the phase: those walks were the stage's tail (kuzmin 4096^2: 1.4 ms after the second phase,
-/// H100, session 27 call 4), a warp walking each of the last sites alone while the rest of the
-/// GPU idled; here they run beside the phase's other warps. The same walks, so the same stars.
 template <StarSearch Search, int MinBlocks, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
-          bool Strips = false, bool RetryHere = false>
+          bool Strips = false>
 __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, const int* pred, int* star,
                                                                    std::uint32_t* info, int* owned,
                                                                    unsigned int* counters, unsigned budget,
@@ -300,26 +279,11 @@ __global__ void __launch_bounds__(128, MinBlocks) star_list_kernel(GridView g, c
                                                                    int* retry_list, int* undecided_list,
                                                                    unsigned int* list_counts,
                                                                    WalkPass pass = WalkPass::first,
-                                                                   StarInbox inbox = {}, unsigned retry_budget = 0) {
+                                                                   StarInbox inbox = {}) {
   const unsigned sites = *count;
-  if constexpr (RetryHere) {
-    // A warp's lanes take their turns together, so that the whole warp walks each site again.
-    const unsigned lane = threadIdx.x & 31, stride = gridDim.x * blockDim.x;
-    for (unsigned base = blockIdx.x * blockDim.x + (threadIdx.x & ~31u); base < sites; base += stride) {
-      int again = -1;
-      if (base + lane < sites)
-        walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips, true>(
-            g, pred, list[base + lane], star, info, owned, counters, budget, pass, retry_list, undecided_list,
-            list_counts, inbox, &again);
-      for (unsigned waiting = __ballot_sync(0xffffffffu, again >= 0); waiting != 0u; waiting &= waiting - 1u)
-        walk_again_by_warp<Search, ExactLattice>(g, pred, __shfl_sync(0xffffffffu, again, __ffs(waiting) - 1), star,
-                                                 info, owned, counters, retry_budget);
-    }
-  } else {
-    for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
-      walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(
-          g, pred, list[k], star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
-  }
+  for (unsigned k = blockIdx.x * blockDim.x + threadIdx.x; k < sites; k += gridDim.x * blockDim.x)
+    walk_and_record<Search, Walker::thread, ExactLattice, FirstPass, ReadsInbox, Strips>(
+        g, pred, list[k], star, info, owned, counters, budget, pass, retry_list, undecided_list, list_counts, inbox);
 }
 
 /// The second phase's first step (StarInbox): an odd site whose inbox holds its whole star
@@ -922,11 +886,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // 2048^2 15.4 -> 14.1; kuzmin 2048^2 0.3 ms slower, uniform inputs (no retries) unchanged.
     // Session 19 (call 6) had tried a third stream and lost on kuzmin.
     // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, for comparisons.
-    // The second phase's own retries walked at once by the warp whose thread ran past the budget
-    // (star_list_kernel's RetryHere), on grids whose retries walk no strips; =end keeps them for
-    // the retry after the phase, for comparisons.
-    const char* phase_retry_env = std::getenv("EXPANSE_CUDA_PHASE_RETRY");
-    const bool retry_in_phase = two_passes && !(phase_retry_env && std::strcmp(phase_retry_env, "end") == 0);
     const char* early_retry_env = std::getenv("EXPANSE_CUDA_EARLY_RETRY");
     const bool early_retry = edge.keys && phases == 2 && two_passes &&
                              !(early_retry_env && std::strcmp(early_retry_env, "0") == 0);
@@ -1023,8 +982,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
             timeline.mark("phase 1 from inboxes", stream);
             later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
-                d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox,
-                retry_budget);
+                d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
           } else {
             (phase > 0 ? later : first)<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(),
@@ -1035,28 +993,19 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           if (phase == 0) launch_first_phase_retry();
         }
       };
-      // The second phase's list walks its sites' second passes itself (star_list_kernel's
-      // RetryHere) where the retries walk no strips, so that its walks are the same.
-      auto later_list = [&](auto light_walk) {
-        constexpr bool walks_light = decltype(light_walk)::value;
-        if constexpr (!striped && !exact) {
-          if (retry_in_phase) return star_list_kernel<StarSearch::boxes, later_b, exact, walks_light, true, false, true>;
-        }
-        return star_list_kernel<StarSearch::boxes, later_b, exact, walks_light, true>;
-      };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.
       if (light) {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact, true>,
-                    star_kernel<StarSearch::boxes, later_b, exact, true, true>, later_list(std::true_type{}),
-                    d_undecided.get());
+                    star_kernel<StarSearch::boxes, later_b, exact, true, true>,
+                    star_list_kernel<StarSearch::boxes, later_b, exact, true, true>, d_undecided.get());
         star_list_kernel<StarSearch::boxes, first_b, exact><<<retry_blocks, 128, 0, stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
             d_undecided.get(), d_counters.get() + 8, d_retry.get(), nullptr, d_counters.get() + 7);
         timeline.mark("undecided", stream);
       } else {
         walk_phases(star_kernel<StarSearch::boxes, first_b, exact>,
-                    star_kernel<StarSearch::boxes, later_b, exact, false, true>, later_list(std::false_type{}),
-                    nullptr);
+                    star_kernel<StarSearch::boxes, later_b, exact, false, true>,
+                    star_list_kernel<StarSearch::boxes, later_b, exact, false, true>, nullptr);
       }
       if (stripped) EXPANSE_CUDA(cudaStreamWaitEvent(stream, stripped));
       if (two_passes)

@@ -118,16 +118,12 @@ void grow_case(Backend& backend, const std::string& name, const std::vector<Poin
 
 /// The device's preparation (grow_from_input) against the host's (prepare_sites): the same
 /// sites in Morton order (equal codes may come in either order), the same representatives, and a
-/// valid growth on them. `sort`: EXPANSE_CUDA_MORTON_SORT for the run ("short", "adaptive",
-/// "full" or null: the forecast decides); `expected`: the keys that must have ordered them
-/// ("short", "adaptive" or "full", where a check sends the 32-bit keys' sorts). `bounds`:
-/// EXPANSE_CUDA_ADAPTIVE_BOUNDS (null: the plan's).
+/// valid growth on them. `sort`: EXPANSE_CUDA_MORTON_SORT for the run ("short", "full" or null:
+/// the forecast decides); `short_expected`: whether the short sort must have ordered them.
 void device_preparation_case(Backend& backend, const std::string& name, const std::vector<Point2>& input,
-                             const char* sort, const std::string& expected, const char* bounds = nullptr) {
-  const std::string test = "device preparation, " + std::string(sort ? sort : "forecast") + " sort" +
-                           (bounds ? std::string(", ") + bounds + " bounds" : std::string()) + ": " + name;
+                             const char* sort, bool short_expected) {
+  const std::string test = "device preparation, " + std::string(sort ? sort : "forecast") + " sort: " + name;
   if (sort) setenv("EXPANSE_CUDA_MORTON_SORT", sort, 1);
-  if (bounds) setenv("EXPANSE_CUDA_ADAPTIVE_BOUNDS", bounds, 1);
   try {
     const InputScan scan = scan_input(input);
     const InputHull input_hull = convex_hull_of_input(input, scan);
@@ -135,7 +131,6 @@ void device_preparation_case(Backend& backend, const std::string& name, const st
     auto made = backend.grow_from_input(
         {input, scan, [&] { return input_hull.collinear ? nullptr : &input_hull.sites; }, layout, nullptr});
     unsetenv("EXPANSE_CUDA_MORTON_SORT");
-    unsetenv("EXPANSE_CUDA_ADAPTIVE_BOUNDS");
     if (!made) return fail(test, "the device declined");
     const SiteSet host = prepare_sites(input);
     const SiteSet& device = made->sites;
@@ -154,14 +149,12 @@ void device_preparation_case(Backend& backend, const std::string& name, const st
     if (!std::equal(device.representative.begin(), device.representative.end(), host.representative.begin(),
                     host.representative.end()))
       return fail(test, "representatives differ");
-    const auto& counters = detail::cuda::last_run_counters();
-    const std::string served = counters.adaptive_morton_sort ? "adaptive" : counters.short_morton_sort ? "short" : "full";
-    if (served != expected) return fail(test, "the " + served + " sort served, not the " + expected);
+    if (detail::cuda::last_run_counters().short_morton_sort != short_expected)
+      return fail(test, short_expected ? "the short sort did not serve" : "the short sort served");
     check_partial(test, device, made->hull, made->grown.partial, false, false);
-    std::printf("ok   %s: %zu sites (%s sort)\n", test.c_str(), device.points.size(), served.c_str());
+    std::printf("ok   %s: %zu sites (%s sort)\n", test.c_str(), device.points.size(), short_expected ? "short" : "full");
   } catch (const Error& e) {
     unsetenv("EXPANSE_CUDA_MORTON_SORT");
-    unsetenv("EXPANSE_CUDA_ADAPTIVE_BOUNDS");
     fail(test, std::string("threw ") + e.what());
   }
 }
@@ -404,29 +397,26 @@ int main(int argc, char** argv) {
   }
 
   {
-    // The device's three sorts. Pairs of points 1e-7 apart share a short key but not a code (runs
+    // The device's two sorts. Pairs of points 1e-7 apart share a short key but not a code (runs
     // that the short sort orders by the whole code; so many that the forecast refuses it); 40
-    // copies of one point make a run of equal keys too long for the short sort (the full sort
-    // after all), but the adaptive keys' long runs may hold one code; an even spread passes the
-    // forecast, kuzmin's centre does not and takes the adaptive keys, which with two bounds only
-    // leave runs of many codes to the full sort.
+    // copies of one point make a run of equal keys too long for it (the full sort after all);
+    // an even spread passes the forecast, kuzmin's centre does not.
     std::vector<Point2> pairs = generate_points("uniform", 3000, 16);
     for (int k = 0; k < 500; ++k) pairs.push_back({pairs[k].x + 1e-7 * (k % 3), pairs[k].y - 1e-7 * (k % 5)});
     std::vector<Point2> copies = generate_points("uniform", 3000, 17);
     copies.insert(copies.end(), 40, copies[5]);
-    const std::vector<Point2> kuzmin = generate_points("kuzmin", 20000, 19);
-    device_preparation_case(*backend, "uniform with close pairs", pairs, "short", "short");
-    device_preparation_case(*backend, "uniform with close pairs", pairs, "full", "full");
-    device_preparation_case(*backend, "uniform with close pairs", pairs, "adaptive", "adaptive");
-    device_preparation_case(*backend, "uniform with close pairs", pairs, nullptr, "adaptive");
-    device_preparation_case(*backend, "40 copies of one point", copies, "short", "full");
-    device_preparation_case(*backend, "40 copies of one point", copies, "adaptive", "adaptive");
-    device_preparation_case(*backend, "duplicates", generate_points("duplicates", 3000, 18), "short", "short");
-    device_preparation_case(*backend, "duplicates", generate_points("duplicates", 3000, 18), "adaptive", "adaptive");
-    device_preparation_case(*backend, "uniform", generate_points("uniform", 20000, 20), nullptr, "short");
-    device_preparation_case(*backend, "kuzmin", kuzmin, nullptr, "adaptive");
-    device_preparation_case(*backend, "kuzmin", kuzmin, "full", "full");
-    device_preparation_case(*backend, "kuzmin", kuzmin, "adaptive", "full", "2");
+    device_preparation_case(*backend, "uniform with close pairs", pairs, "short", true);
+    device_preparation_case(*backend, "uniform with close pairs", pairs, "full", false);
+    device_preparation_case(*backend, "uniform with close pairs", pairs, nullptr, false);
+    device_preparation_case(*backend, "40 copies of one point", copies, "short", false);
+    device_preparation_case(*backend, "duplicates", generate_points("duplicates", 3000, 18), "short", true);
+    device_preparation_case(*backend, "uniform", generate_points("uniform", 20000, 20), nullptr, true);
+    device_preparation_case(*backend, "kuzmin", generate_points("kuzmin", 20000, 19), nullptr, false);
+    // A cluster finer than the quantisation (300 distinct points 1e-13 apart sharing a code or
+    // two): the merge's hash tables, with no point repeating (no groups made, no scan).
+    std::vector<Point2> fine = generate_points("uniform", 1000, 15);
+    for (int k = 0; k < 300; ++k) fine.push_back({0.5 + (k % 17) * 1e-13, 0.25 + (k / 17) * 1e-13});
+    device_preparation_case(*backend, "a cluster finer than the quantisation", fine, nullptr, false);
   }
 
   {

@@ -91,11 +91,13 @@ EXPANSE_GUIDE_HD inline int quantile_guide_entry(const double* bounds, int count
 /// (a value's column lies among them) times the binary search's steps over them. Columns hold
 /// equal shares of the sites, so this weighs each bin by how often it is looked up. Exact in
 /// integers: the host and a device's parallel sum agree.
-EXPANSE_GUIDE_HD inline long long quantile_guide_bin_cost(const int* first, int k) {
-  const int columns = first[k + 1] - first[k];
+EXPANSE_GUIDE_HD inline long long quantile_guide_columns_cost(int columns) {
   int steps = 0;
   while ((1 << steps) < columns + 1) ++steps;
   return static_cast<long long>(columns) * steps;
+}
+EXPANSE_GUIDE_HD inline long long quantile_guide_bin_cost(const int* first, int k) {
+  return quantile_guide_columns_cost(first[k + 1] - first[k]);
 }
 
 /// The most table entries an axis of `cells` columns can need (either key's bound).
