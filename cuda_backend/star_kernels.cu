@@ -754,6 +754,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
 
   timer.begin("stars");
   StreamTimeline timeline;
+  timeline.mark("stage", stream);  // the walks' set-up before "start"
   // EXPANSE_CUDA_BLOCKS_PER_SM (4, 6 or 8) caps the star kernel's registers so that that many
   // blocks of 128 threads fit on a multiprocessor (65536 / (128 * blocks) registers a thread:
   // 64 at 8, 80 at 6, 128 at 4). 6 for integer coordinates: a lattice's cocircular cells send most
