@@ -12,6 +12,6 @@ for dist in kuzmin uniform gaussian; do
 import sys,json
 for l in sys.stdin:
   r=json.loads(l); print('stars unpiped', r['device_stages_ms'].get('stars'), 'piped', r['pipeline_device_stages_ms'].get('stars'))"
-  grep "star stage timeline" $OUT/t.err
+  grep "star stage timeline" $OUT/t.err || head -5 $OUT/t.err
 done > $OUT/call3-timelines.txt 2>&1
 cat $OUT/call3-timelines.txt; rm -f $OUT/t.err
