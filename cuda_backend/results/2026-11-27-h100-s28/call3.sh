@@ -3,6 +3,7 @@
 # the host-prepared sites: timelines with a mark at the stage's start ("stage"), every run's.
 set -u
 python3 -c "import tarfile; tarfile.open('.devrun/bundle.tar.xz').extractall('.devrun')"
+for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
 export LD_LIBRARY_PATH=$PWD/.devrun/lib
 cat .devrun/COMMIT; nvidia-smi --query-gpu=name,driver_version --format=csv,noheader; ls /usr/local/cuda/bin | grep -i nsys
 B=.devrun/expanse_bench_cuda
