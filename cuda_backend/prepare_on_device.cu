@@ -3,8 +3,9 @@
 // each group), the sites put in Morton order; then grown by the per-site layout.
 //
 //   upload raw points -> Morton codes of the scaled points -> sort (stable: input order within a
-//     code; by the codes' top 32 bits where a sample says they nearly tell the points apart,
-//     each run of equal keys then ordered by the whole code) -> gather the scaled points
+//     key; by the codes' top 32 bits where a sample says they nearly tell the points apart,
+//     each run of equal keys then ordered by the whole code; else by the codes refined by where
+//     in its quantum a point lies, refined_morton) -> gather the scaled points
 //     -> merge: a point equal to an earlier one of its run of equal codes joins that one's group
 //     -> compact the groups' first points: the sites, already in Morton order (and, where points
 //        repeat, every input's representative)
@@ -133,11 +134,35 @@ __device__ __forceinline__ std::uint64_t morton(double2 p, const Quantiser& q) {
   return morton_code(q.x(p.x), q.y(p.y));
 }
 
+/// The full sort's key: p's Morton code and, in the 4 bits below it that a 64-bit key leaves
+/// free, where p lies within its quantum (2 bits a coordinate, interleaved as the code's). The
+/// order it sorts the sites in is a Morton order still (the host's BucketTree takes equal codes
+/// in any order), and equal points have equal keys; within a run of equal codes, left in input
+/// order, a cluster finer than the quantisation (kuzmin's centre: thousands of sites a code at
+/// 4096^2) was walked in no spatial order: the second phase's parity and its warps' neighbours
+/// fell at random, and it took 1.5 ms longer than on the host's preparation, which orders such
+/// runs by (x, y) (H100, session 28 calls 3-5). The same 8 radix passes as the 60 bits alone.
+constexpr int kRefineBits = 2;
+static_assert(2 * Quantiser::bits + 2 * kRefineBits <= 64);
+__device__ __forceinline__ std::uint64_t refined_morton(double2 p, const Quantiser& q) {
+  const std::uint32_t qx = q.x(p.x), qy = q.y(p.y);
+  // The fraction of the quantum below p, as Quantiser computes the quantum (no contraction in
+  // this file): monotone in the coordinate within a quantum.
+  auto part = [](double v, double origin, double scale, std::uint32_t quantum) {
+    const double t = ((v - origin) * scale - static_cast<double>(quantum)) * (1 << kRefineBits);
+    return t > 0.0 ? (t < (1 << kRefineBits) ? static_cast<std::uint32_t>(t) : (1u << kRefineBits) - 1u) : 0u;
+  };
+  const std::uint32_t fx = part(p.x, q.origin_x, q.scale, qx), fy = part(p.y, q.origin_y, q.scale, qy);
+  std::uint32_t fine = 0;
+  for (int b = kRefineBits - 1; b >= 0; --b) fine = (fine << 2) | (((fy >> b) & 1u) << 1) | ((fx >> b) & 1u);
+  return (morton_code(qx, qy) << (2 * kRefineBits)) | fine;
+}
+
 __global__ void morton_kernel(const double2* raw, InputScale scale, int n, Quantiser q, std::uint64_t* codes,
                               int* ids) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  codes[i] = morton(scale(raw[i]), q);
+  codes[i] = refined_morton(scale(raw[i]), q);
   ids[i] = i;
 }
 
@@ -332,14 +357,14 @@ __global__ void hash_first_kernel(const double2* sorted, int n, RunTables runs, 
 /// x's and whose input index is x: the sort is stable, so within a run of equal codes the input
 /// indices ascend, and two binary searches find it (h of them, where an input-to-site map
 /// written for every point had cost a scatter of n). first and slot null: no point repeats, and
-/// the positions are the site ids.
+/// the positions are the site ids. `refined`: the codes are the full sort's keys (refined_morton).
 __global__ void hull_sites_kernel(const int* hull_input, int h, const double2* raw, InputScale scale, Quantiser q,
-                                  const std::uint64_t* codes, const int* sorted_input, int n, const int* first,
-                                  const int* slot, int* hull_sites) {
+                                  bool refined, const std::uint64_t* codes, const int* sorted_input, int n,
+                                  const int* first, const int* slot, int* hull_sites) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= h) return;
   const int x = hull_input[t];
-  const std::uint64_t code = morton(scale(raw[x]), q);
+  const std::uint64_t code = refined ? refined_morton(scale(raw[x]), q) : morton(scale(raw[x]), q);
   int lo = 0, hi = n;  // the first position whose (code, input) is not below (code, x)
   while (lo < hi) {
     const int mid = lo + (hi - lo) / 2;
@@ -407,8 +432,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     std::uint32_t* const d_keys_sorted = d_keys + n;
     std::size_t sort_bytes = 0, short_bytes = 0, scan_bytes = 0, max_bytes = 0;
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, d_codes.get(), d_codes_sorted.get(), d_ids.get(),
-                                                 d_sorted_ids.get(), static_cast<int>(n), 0, 2 * Quantiser::bits,
-                                                 stream));
+                                                 d_sorted_ids.get(), static_cast<int>(n), 0,
+                                                 2 * Quantiser::bits + 2 * kRefineBits, stream));
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, short_bytes, d_keys, d_keys_sorted, d_ids.get(),
                                                  d_sorted_ids.get(), static_cast<int>(n), 0, 32, stream));
     EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, scan_bytes, d_head.get(), d_slot.get(), static_cast<int>(n),
@@ -452,7 +477,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
       temp_bytes = d_temp.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(d_temp.get(), temp_bytes, d_codes.get(), d_codes_sorted.get(),
                                                    d_ids.get(), d_sorted_ids.get(), static_cast<int>(n), 0,
-                                                   2 * Quantiser::bits, stream));
+                                                   2 * Quantiser::bits + 2 * kRefineBits, stream));
       gather_scaled_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted_ids.get(), d_raw.get(), scale,
                                                                    static_cast<int>(n), d_sorted.get());
       EXPANSE_CUDA(cudaGetLastError());
@@ -534,7 +559,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     d_hull_sites.emplace(h, stream);
     ctx.staging->upload(d_hull_input.get(), hull_input->data(), h * sizeof(int), stream);
     hull_sites_kernel<<<blocks_for(h), kThreads, 0, stream>>>(
-        d_hull_input.get(), static_cast<int>(h), d_raw.get(), scale, quantiser, d_codes_sorted.get(), d_sorted_ids.get(),
+        d_hull_input.get(), static_cast<int>(h), d_raw.get(), scale, quantiser, !short_sorted, d_codes_sorted.get(),
+        d_sorted_ids.get(),
         static_cast<int>(n), repeats ? d_first.get() : nullptr, repeats ? d_slot.get() : nullptr,
         d_hull_sites->get());
     EXPANSE_CUDA(cudaGetLastError());

@@ -675,10 +675,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
 
   StageTimer timer(stream);
   const auto host_start = clock::now();
-  // Throwaway (session 28 call 5): EXPANSE_CUDA_PAD_MB moves the pool's placement of the
-  // stage's arrays by an allocation of that size held through the stage.
-  const char* pad_env = std::getenv("EXPANSE_CUDA_PAD_MB");
-  DeviceArray<unsigned char> d_pad(pad_env ? std::strtoul(pad_env, nullptr, 10) << 20 : 0, stream);
   DeviceArray<double2> d_uploaded_points(on_device ? 0 : n, stream);
   DeviceArray<int> d_uploaded_hull(on_device ? 0 : input.hull.sites.size(), stream);
   const double2* d_points = on_device ? on_device->points : d_uploaded_points.get();

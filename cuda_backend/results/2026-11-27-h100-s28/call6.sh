@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Session 28 call 6: R (the bundle's build): M (call 2) and the full sort's keys refined by where
+# in its quantum a point lies (refined_morton), so that a cluster finer than the quantisation is
+# walked in a spatial order; against session 27's final build (baseline/, 3e734c0): 4096^2 every
+# input, two rounds alternated; 512^2 to 2048^2; kuzmin's timelines and lists; R's CUDA tests,
+# conformance on CUDA, memcheck and initcheck on the small cases.
+set -u
+bash bench/device/run-on-device.sh env > /dev/null 2>&1; cp $OUT/env.txt $OUT/call6-env.txt 2>/dev/null; rm -f $OUT/env.txt
+export LD_LIBRARY_PATH=$PWD/.devrun/lib
+cat .devrun/COMMIT .devrun/baseline/COMMIT
+J=$OUT/call6-compare.jsonl
+tag() { python3 -c "
+import sys,json
+for l in sys.stdin:
+  try: r=json.loads(l)
+  except Exception: continue
+  r['variant']='$1'; print(json.dumps(r))" >> $J; }
+B=.devrun/expanse_bench_cuda O=.devrun/baseline/expanse_bench_cuda
+for round in 1 2; do
+  timeout 150 $B --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag R
+  timeout 150 $O --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag base
+done
+timeout 120 $B --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag R
+timeout 120 $O --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag base
+python3 - $J <<'PY'
+import json,sys,collections
+d=collections.defaultdict(list)
+for l in open(sys.argv[1]):
+  r=json.loads(l)
+  s=r.get('pipeline_device_stages_ms') or {}
+  g=sum(v for k,v in s.items() if k not in ('upload','download'))
+  d[(r['distribution'], r['side'], r['variant'])].append('%.2f (sort %.2f merge %.2f bucket %.2f stars %.2f unpiped %.2f, def %d, seam %.4f%%, h2h %.1f)'%(g,s.get('sort',0),s.get('merge duplicates',0),s.get('bucket',0),s.get('stars',0),r['device_stages_ms'].get('stars',0),r['deferred'],100*r.get('seam_share',0),r.get('host_to_host_ms',0)))
+for k in sorted(d): print(*k, ' / '.join(d[k]))
+PY
+for b in R:$B base:$O; do
+  echo "== timeline kuzmin ${b%%:*}"
+  EXPANSE_CUDA_STAR_TIMELINE=1 timeout 60 ${b#*:} --sizes 4096 --dists kuzmin --reps 2 2>&1 >/dev/null | grep "star stage"
+done > $OUT/call6-timeline.txt 2>&1
+cat $OUT/call6-timeline.txt
+timeout 200 .devrun/expanse_cuda_tests > $OUT/call6-cuda-tests.log 2>&1; echo "cuda tests rc $?"; grep -E "^FAIL" $OUT/call6-cuda-tests.log | head; tail -1 $OUT/call6-cuda-tests.log
+timeout 150 .devrun/expanse_conformance --backend cuda > $OUT/call6-conformance.log 2>&1; echo "conformance rc $?"; tail -2 $OUT/call6-conformance.log
+for tool in memcheck initcheck; do
+  timeout 120 /usr/local/cuda/bin/compute-sanitizer --tool $tool --error-exitcode 9 .devrun/expanse_cuda_tests --small > /tmp/san.log 2>&1; echo "$tool rc $?"; tail -1 /tmp/san.log; (echo "=== $tool"; cat /tmp/san.log) >> $OUT/call6-sanitizers.log
+done
