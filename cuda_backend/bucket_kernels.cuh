@@ -16,29 +16,24 @@
 namespace expanse::detail::cuda {
 namespace {
 
-/// keys[i]: point i's cell, and with kSubCellBits (`within`) below it where in its cell it lies:
-/// the cell cut into 2^kSubCellBits columns and rows, interleaved as Morton codes interleave.
-constexpr int kSubCellBits = 4;
+/// keys[i]: point i's cell, and with kSubCellBits (`within`) below it where in its cell's
+/// width it lies (the sites of a cell then walked in x order).
+constexpr int kSubCellBits = 8;
 __global__ void cell_keys_kernel(GridView g, const double2* points, int n, std::uint32_t* keys, int* ids,
                                  bool within = false) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const double2 p = points[i];
-  const int cx = g.cell_x(p.x), cy = g.cell_y(p.y);
-  std::uint32_t key = static_cast<std::uint32_t>(cy * g.gx + cx);
+  const int cx = g.cell_x(p.x);
+  std::uint32_t key = static_cast<std::uint32_t>(g.cell_y(p.y) * g.gx + cx);
   if (within) {
-    // Which part of the cell: any monotone guess will do (the order within a cell is free).
-    auto part = [](double v, double lo, double hi) {
-      const double t = (v - lo) / (hi - lo) * (1 << kSubCellBits);
-      return t > 0.0 ? (t < (1 << kSubCellBits) ? static_cast<std::uint32_t>(t) : (1u << kSubCellBits) - 1u) : 0u;
-    };
-    double x0, x1, y0, y1;
-    g.x_bounds(cx, &x0, &x1);
-    g.y_bounds(cy, &y0, &y1);
-    const std::uint32_t sx = part(p.x, x0, x1), sy = part(p.y, y0, y1);
-    std::uint32_t sub = 0;
-    for (int b = kSubCellBits - 1; b >= 0; --b) sub = (sub << 2) | (((sy >> b) & 1u) << 1) | ((sx >> b) & 1u);
-    key = (key << (2 * kSubCellBits)) | sub;
+    // Any monotone guess will do: the order within a cell is free.
+    double lo, hi;
+    g.x_bounds(cx, &lo, &hi);
+    const double t = (p.x - lo) / (hi - lo) * (1 << kSubCellBits);
+    const std::uint32_t part =
+        t > 0.0 ? (t < (1 << kSubCellBits) ? static_cast<std::uint32_t>(t) : (1u << kSubCellBits) - 1u) : 0u;
+    key = (key << kSubCellBits) | part;
   }
   keys[i] = key;
   ids[i] = i;
@@ -202,7 +197,8 @@ class CellBuckets {
   /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
   /// `word`: pinned host memory for the evenness test's one number; `guide_keys`: for the two axes'
   /// guide keys (the host waits for both).
-  void build(GridView& g, const double2* points, int n, int* rank, unsigned int* word, QuantileGuideKey* guide_keys,
+  void build(GridView& g, const double2* points, int n, int* rank, bool unordered_runs, unsigned int* word,
+             QuantileGuideKey* guide_keys,
              cudaStream_t stream) {
     uniform_ = !quantile_;
     const int samples = quantile_sample_count(static_cast<std::size_t>(n));
@@ -260,18 +256,20 @@ class CellBuckets {
         g.y_guide = {guide_keys[1].logarithmic ? y_guide_.get() : y_even_.get(), guide_keys[1]};
       }
     }
-    // Within a quantile cell the sites in a spatial order (where in the cell they lie), not in
-    // the order they came: the device's preparation leaves a run of equal Morton codes in input
-    // order, and kuzmin's centre, finer than the quantisation, has thousands of sites a code,
-    // each code's spread over hundreds of cells. In no spatial order there, the second phase's
-    // parity fell at random and it searched for 5.26 M sites instead of 4.58 M (4096^2, H100,
-    // session 28 calls 3-6). EXPANSE_CUDA_CELL_ORDER=sites keeps the sites' order; =spatial
-    // orders uniform cells too (both for comparisons).
+    // Where the sites hold long runs of equal Morton codes in no spatial order
+    // (`unordered_runs`: the device's preparation leaves such a run in input order, the host's
+    // puts it in (x, y) order), a cell's sites are walked in x order instead of the sites' order.
+    // Kuzmin's centre, finer than the quantisation, has thousands of sites a code at 4096^2, each
+    // code's spread over hundreds of cells: in input order the second phase's parity fell at
+    // random there, and it searched for 5.26 M sites where the host's order left 4.58 M (H100,
+    // session 28 calls 3-7). Elsewhere the sites' order (Morton) serves better: ordered within
+    // its cells, gaussian lost 0.5 ms at 4096^2 (call 7). EXPANSE_CUDA_CELL_ORDER=sites keeps the
+    // sites' order, =x orders every grid's cells (both for comparisons).
     const char* order_env = std::getenv("EXPANSE_CUDA_CELL_ORDER");
     const bool sites_asked = order_env && std::strcmp(order_env, "sites") == 0;
-    const bool spatial_asked = order_env && std::strcmp(order_env, "spatial") == 0;
-    const bool within = (spatial_asked || (!uniform_ && !sites_asked)) && key_bits_ + 2 * kSubCellBits <= 32;
-    const int shift = within ? 2 * kSubCellBits : 0;
+    const bool x_asked = order_env && std::strcmp(order_env, "x") == 0;
+    const bool within = (x_asked || (unordered_runs && !sites_asked)) && key_bits_ + kSubCellBits <= 32;
+    const int shift = within ? kSubCellBits : 0;
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get(), within);
     EXPANSE_CUDA(cudaGetLastError());
     std::size_t bytes = temp_.bytes();

@@ -126,6 +126,9 @@ struct Context {
 struct SitesOnDevice {
   const double2* points = nullptr;
   const int* hull = nullptr;
+  /// Runs of equal Morton codes longer than the merge searches pairwise (a cluster finer than
+  /// the quantisation), in no spatial order (the host's preparation puts them in (x, y) order).
+  bool unordered_runs = false;
 };
 
 /// Per-site star layout (docs/algorithm.md, "GPU, per-site seeding").

@@ -407,6 +407,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   DeviceArray<int> d_site_input(n, stream), d_representative(n, stream);
   std::optional<DeviceArray<int>> d_hull_sites;  // once the hull is known
   bool short_sorted = false;                     // the sites ordered by the short sort
+  bool long_runs = false;                        // runs of equal keys past kMergeRunLimit
   // Before the device's first stage: the forecast is host work, and timed inside a stage it
   // would count as the device's.
   const bool short_forecast = short_sort_forecast(input.points, input.scan, Quantiser(bounds));
@@ -497,6 +498,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     // only where one does: H100, 4096^2, the merge 0.17 -> 0.07 ms on uniform, gaussian and the
     // lattice, kuzmin (hash tables) 1.40 -> 1.09 (session 28 call 1).
     const bool hashed = words[0] != 0;
+    long_runs = hashed;
     EXPANSE_CUDA(cudaMemsetAsync(d_flags.get() + 1, 0, sizeof(unsigned int), stream));
     RunTables runs{};
     if (!hashed) {
@@ -624,7 +626,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   const auto host_prepared = clock::now();
 
   std::vector<StageTime> prepare_stages = timer.collect();
-  const SitesOnDevice on_device{d_site_points.get(), d_hull_sites->get()};
+  const SitesOnDevice on_device{d_site_points.get(), d_hull_sites->get(), long_runs};
   grow_per_site(ctx, GrowInput{sites, hull, input.layout, input.recycled}, result.grown, &on_device);
   const auto host_grown = clock::now();
   if (copies.valid()) copies.get();

@@ -733,7 +733,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // The evenness test's read-back goes through pinned word 15, the guides' keys through words
   // 16..31, each read at once (the audit reuses word 15 later).
   static_assert(2 * sizeof(QuantileGuideKey) == 16 * sizeof(unsigned int));
-  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), &ctx.pinned_words[15],
+  buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), on_device && on_device->unordered_runs,
+                &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
   apply_first_box(g, buckets.uniform(), input.sites);
   // Strips for grids of equal cells over inputs that are no small lattice: a uniform square's
