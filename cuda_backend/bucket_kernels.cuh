@@ -261,10 +261,12 @@ class CellBuckets {
     // puts it in (x, y) order), a cell's sites are walked in x order instead of the sites' order.
     // Kuzmin's centre, finer than the quantisation, has thousands of sites a code at 4096^2, each
     // code's spread over hundreds of cells: in input order the second phase's parity fell at
-    // random there, and it searched for 5.26 M sites where the host's order left 4.58 M (H100,
-    // session 28 calls 3-7). Elsewhere the sites' order (Morton) serves better: ordered within
-    // its cells, gaussian lost 0.5 ms at 4096^2 (call 7). EXPANSE_CUDA_CELL_ORDER=sites keeps the
-    // sites' order, =x orders every grid's cells (both for comparisons).
+    // random there, and it searched for 5.26 M sites where the host's order left 4.58 M; in x
+    // order 4.59 M, the star stage 46.5 -> 45.2 ms and kuzmin GPU-only, with the device
+    // preparation's other changes of session 28, 55.1 -> 53.3 (H100, session 28 calls 3-8).
+    // Elsewhere the sites' order (Morton) serves better: with every quantile cell's sites in a
+    // spatial order, gaussian lost 0.5 ms at 4096^2 (call 7). EXPANSE_CUDA_CELL_ORDER=sites keeps
+    // the sites' order, =x orders every grid's cells (both for comparisons).
     const char* order_env = std::getenv("EXPANSE_CUDA_CELL_ORDER");
     const bool sites_asked = order_env && std::strcmp(order_env, "sites") == 0;
     const bool x_asked = order_env && std::strcmp(order_env, "x") == 0;

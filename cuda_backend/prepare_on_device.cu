@@ -137,11 +137,11 @@ __device__ __forceinline__ std::uint64_t morton(double2 p, const Quantiser& q) {
 /// The full sort's key: p's Morton code and, in the 4 bits below it that a 64-bit key leaves
 /// free, where p lies within its quantum (2 bits a coordinate, interleaved as the code's). The
 /// order it sorts the sites in is a Morton order still (the host's BucketTree takes equal codes
-/// in any order), and equal points have equal keys; within a run of equal codes, left in input
-/// order, a cluster finer than the quantisation (kuzmin's centre: thousands of sites a code at
-/// 4096^2) was walked in no spatial order: the second phase's parity and its warps' neighbours
-/// fell at random, and it took 1.5 ms longer than on the host's preparation, which orders such
-/// runs by (x, y) (H100, session 28 calls 3-5). The same 8 radix passes as the 60 bits alone.
+/// in any order), and equal points have equal keys. A cluster finer than the quantisation
+/// (kuzmin's centre: thousands of sites a code at 4096^2) is then in sixteen runs a code, each
+/// in input order, where it was in one: the merge's hash tables for each run took kuzmin 1.41 ->
+/// 0.86 ms (H100, session 28 call 6), in the same 8 radix passes as the 60 bits alone. (Its
+/// walks want more order than that: CellBuckets orders such sites within their cells.)
 constexpr int kRefineBits = 2;
 static_assert(2 * Quantiser::bits + 2 * kRefineBits <= 64);
 __device__ __forceinline__ std::uint64_t refined_morton(double2 p, const Quantiser& q) {
