@@ -509,11 +509,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     } else {
       // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
       // finer than the quantisation): equal points found through a hash table for each run.
-      // The unsorted codes and ids are free now: the tables (2n slots) go to the codes' array,
-      // the runs' lengths to the ids', their starts to the slots' (free until the scan below).
-      // The tables had an array of their own, and with it the star stage that followed took 1.5
-      // ms longer on kuzmin 4096^2 than on the same sites prepared by the host (H100, session 28
-      // call 1), the pool placing its arrays elsewhere.
+      // The unsorted codes and ids are free now: the tables (2n slots) go to the codes' array
+      // (one array fewer from the pool), the runs' lengths to the ids', their starts to the
+      // slots' (free until the scan below).
       int* const run_start = d_slot.get();
       int* const run_length = d_ids.get();
       int* const tables = reinterpret_cast<int*>(d_codes.get());
