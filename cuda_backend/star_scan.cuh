@@ -217,26 +217,33 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // visited: cells done; target: the box being scanned (target minus visited, a row segment at
   // a time: in row y, `part` 0 is left of the visited box or the whole row, 1 right of it).
   CellBox visited{kNone, kNone, -kNone, -kNone};
+  // First box of the nearest-neighbour search: the site's cell (one look-up an axis) and, on the
+  // uniform grid, its neighbours within half a cell (about 9 candidates on uniform inputs, as
+  // star.comp counted).
+  auto nearest_box = [&]() {
+    if (g.xb) {
+      const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
+      return CellBox{cx, cy, cx, cy};
+    }
+    return cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w, ps.y + 0.5 * g.cell_h);
+  };
   // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
-  // (an empty first box, and the search over at once).
+  // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
+  // keep the order they had before (the box, then the inbox; and a region for a given neighbour
+  // too, below): ptxas spills their second phase's registers otherwise, which cost the 4096^2
+  // lattice 0.6 ms (H100, session 29 call 1).
   bool given = false;
   CellBox target{0, 0, -1, -1};
+  if constexpr (ExactLattice) target = nearest_box();
   if constexpr (ReadsInbox) {
     if (const int start = inbox.first_neighbour(i); start >= 0) {
       best = start;
       given = true;
+      target = CellBox{0, 0, -1, -1};
     }
   }
-  // Else the first box of the nearest-neighbour search: the site's cell (one look-up an axis)
-  // and, on the uniform grid, its neighbours within half a cell (about 9 candidates on uniform
-  // inputs, as star.comp counted).
-  if (!given) {
-    if (g.xb) {
-      const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
-      target = CellBox{cx, cy, cx, cy};
-    } else {
-      target = cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w, ps.y + 0.5 * g.cell_h);
-    }
+  if constexpr (!ExactLattice) {
+    if (!given) target = nearest_box();
   }
   int y = target.y0 - 1, part = 1;
   std::uint32_t slot = 0, slot_end = 0;
@@ -253,35 +260,33 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // `inside` (a box of quantile cells, the one just scanned), that box itself where it holds the
   // region (quantile_box_holds): most searches end there (kuzmin, counted on the CPU: 80% of
   // these tests), and the region's four look-ups were half of the light walk's.
+  auto cells_within = [&](double x_lo, double y_lo, double x_hi, double y_hi, const CellBox* inside) {
+    if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
+    return cells_of(g, x_lo, y_lo, x_hi, y_hi);
+  };
   auto region_of_best = [&](const CellBox* inside = nullptr) {
-    double x_lo, y_lo, x_hi, y_hi;
+    CellBox region = whole;
     if (phase == nearest) {
       // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
       // sqrt and of the box's corners, and underflow in d2, all covered).
       const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
-      x_lo = ps.x - reach;
-      y_lo = ps.y - reach;
-      x_hi = ps.x + reach;
-      y_hi = ps.y + reach;
+      region = cells_within(ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach, inside);
       bounds.disc = true;
       bounds.ox = ps.x;
       bounds.oy = ps.y;
       bounds.reach = reach;
     } else {
       CircleRegion r;
-      if (!circle_region(pa, pb, best_p, &r)) return whole;
-      if constexpr (Strips) last_region = r;
-      x_lo = r.x_lo;
-      y_lo = r.y_lo;
-      x_hi = r.x_hi;
-      y_hi = r.y_hi;
-      bounds.disc = true;
-      bounds.ox = r.ox;
-      bounds.oy = r.oy;
-      bounds.reach = r.reach;
+      if (circle_region(pa, pb, best_p, &r)) {
+        if constexpr (Strips) last_region = r;
+        region = cells_within(r.x_lo, r.y_lo, r.x_hi, r.y_hi, inside);
+        bounds.disc = true;
+        bounds.ox = r.ox;
+        bounds.oy = r.oy;
+        bounds.reach = r.reach;
+      }
     }
-    if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
-    return cells_of(g, x_lo, y_lo, x_hi, y_hi);
+    return region;
   };
 
   // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
@@ -601,7 +606,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                     min(visited.y1 + grow_y, whole.y1)};
         } else {
           // (A site the inbox gave its nearest neighbour has found it: no region.)
-          const CellBox region = given ? visited : region_of_best(&visited);
+          const CellBox region = given && !ExactLattice ? visited : region_of_best(&visited);
           found = given || box_inside(region, visited);
           given = false;
           if constexpr (Strips) {

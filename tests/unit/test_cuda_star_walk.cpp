@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <random>
 #include <set>
 #include <string>
@@ -532,6 +533,68 @@ TEST_CASE("CUDA quantile grid: the guided cell lookup is the full binary search"
       if (cells >= 64 && axis.shape != Shape::power) CHECK(double(steps) / double(values.size()) < 4.0);
     }
   }
+}
+
+TEST_CASE("CUDA box scans: a box of quantile cells holds a region by its boundaries exactly when by the look-ups",
+          "[cuda][grid]") {
+  // quantile_box_holds (the test that ends most searches on quantile cells) against what it
+  // replaces, box_inside(cells_of(region), box): boxes at and away from the grid's sides, empty
+  // ones, regions whose bounds fall on, beside and between boundaries (equal ones among them),
+  // beyond the axis, and NaN (where the boundaries may only say no more often).
+  std::mt19937_64 random(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int gx = 37, gy = 23;
+  auto axis = [&](int cells, double scale) {
+    std::vector<double> bounds(cells + 1, 0.0);  // [0] and [cells] never read, as on the device
+    for (int j = 1; j < cells; ++j) bounds[j] = scale * std::tan(M_PI * (double(j) / cells - 0.5));
+    for (int j = 3; j + 1 < cells; j += 5) bounds[j] = bounds[j - 1];
+    return bounds;
+  };
+  const std::vector<double> xb = axis(gx, 1.0), yb = axis(gy, 1e-6);
+  cuda::GridView g{};
+  g.gx = gx;
+  g.gy = gy;
+  g.xb = xb.data();
+  g.yb = yb.data();
+  g.min_x = -1e3;
+  g.max_x = 1e3;
+  g.min_y = -1e-3;
+  g.max_y = 1e-3;
+  auto value = [&](const std::vector<double>& bounds, int cells, double scale) {
+    const double pick = unit(random);
+    const int j = 1 + static_cast<int>(unit(random) * (cells - 1)) % (cells - 1);
+    if (pick < 0.3) return bounds[j];
+    if (pick < 0.45) return std::nextafter(bounds[j], -HUGE_VAL);
+    if (pick < 0.6) return std::nextafter(bounds[j], HUGE_VAL);
+    if (pick < 0.62) return std::numeric_limits<double>::quiet_NaN();
+    return scale * std::tan(M_PI * (1.1 * unit(random) - 0.55));
+  };
+  std::size_t held = 0, mismatches = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    auto side = [&](int cells) {
+      const int a = static_cast<int>(unit(random) * cells), b = static_cast<int>(unit(random) * cells);
+      const double pick = unit(random);
+      if (pick < 0.1) return std::pair{0, std::max(a, b)};
+      if (pick < 0.2) return std::pair{std::min(a, b), cells - 1};
+      if (pick < 0.25) return std::pair{std::max(a, b), std::min(a, b) - 1};  // empty
+      return std::pair{std::min(a, b), std::max(a, b)};
+    };
+    const auto [x0, x1] = side(gx);
+    const auto [y0, y1] = side(gy);
+    const cuda::CellBox box{x0, y0, x1, y1};
+    double x_lo = value(xb, gx, 1.0), x_hi = value(xb, gx, 1.0);
+    double y_lo = value(yb, gy, 1e-6), y_hi = value(yb, gy, 1e-6);
+    if (x_lo > x_hi) std::swap(x_lo, x_hi);
+    if (y_lo > y_hi) std::swap(y_lo, y_hi);
+    const bool by_bounds = cuda::quantile_box_holds(g, box, x_lo, y_lo, x_hi, y_hi);
+    const bool by_lookups = cuda::box_inside(cuda::cells_of(g, x_lo, y_lo, x_hi, y_hi), box);
+    const bool nan = std::isnan(x_lo) || std::isnan(x_hi) || std::isnan(y_lo) || std::isnan(y_hi);
+    held += by_bounds;
+    mismatches += nan ? (by_bounds && !by_lookups) : by_bounds != by_lookups;
+  }
+  INFO(held << " of 200000 regions held");
+  CHECK(mismatches == 0);
+  CHECK(held > 1000);  // the test meets both answers
 }
 
 TEST_CASE("CUDA quantile cells: as many columns as rows, whatever the box, no more cells than uniform ones",
