@@ -887,8 +887,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // (gaussian, 56), GPU-only kuzmin 59.7 -> 59.1-59.4 ms, gaussian 44.4-44.5 -> 43.8, gaussian
     // 2048^2 15.4 -> 14.1; kuzmin 2048^2 0.3 ms slower, uniform inputs (no retries) unchanged.
     // Session 19 (call 6) had tried a third stream and lost on kuzmin.
-    // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, =phase0 starts the first phase's
-    // right after that phase (see retry_after_inboxes), for comparisons.
+    // EXPANSE_CUDA_EARLY_RETRY=0 keeps every retry at the end, for comparisons.
     const char* early_retry_env = std::getenv("EXPANSE_CUDA_EARLY_RETRY");
     const bool early_retry = edge.keys && phases == 2 && two_passes &&
                              !(early_retry_env && std::strcmp(early_retry_env, "0") == 0);
@@ -903,11 +902,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // noise either way (call 9). EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
     const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
-    // The first phase's retry starts after the inbox kernel rather than beside it: a warp a site
-    // at the edge stream's priority, thousands of them on kuzmin, they held the inbox kernel's
-    // slots (kuzmin 4096^2: 1.7 ms for it, uniform 1.0), and the second phase hides them as well.
-    const bool retry_after_inboxes =
-        inbox_first && !(early_retry_env && std::strcmp(early_retry_env, "phase0") == 0);
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
     // only by the scan after the stars): an array of its own, 32 MB at 4096^2, took the bucket
     // stage of the next triangulation from 0.92 to 2.0 ms on uniform cells (H200, session 22
@@ -988,7 +982,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                 d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
                 d_search, d_counters.get() + 12, ends_first);
             timeline.mark("phase 1 from inboxes", stream);
-            if (retry_after_inboxes) launch_first_phase_retry();
             later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
                 d_search, d_counters.get() + 12, d_retry.get(), undecided, d_counters.get() + 7, pass, inbox);
@@ -999,7 +992,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           }
           timeline.mark(phase == 0 ? "phase 0" : "phase 1", stream);
           if (phase == 0 && edge_after_phase0) launch_edge();
-          if (phase == 0 && !retry_after_inboxes) launch_first_phase_retry();
+          if (phase == 0) launch_first_phase_retry();
         }
       };
       // A light first pass (no exact path, no row clipping) hands its hard sites on to the second.

@@ -229,9 +229,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   };
   // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
   // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
-  // keep the order they had before (the box, then the inbox; and a region for a given neighbour
-  // too, below): ptxas spills their second phase's registers otherwise, which cost the 4096^2
-  // lattice 0.6 ms (H100, session 29 call 1).
+  // keep their former code here (the box, then the inbox; a region for a given neighbour too,
+  // below; and region_of_best's shape): their kernels lost most to ptxas' spill placement when
+  // it changed (the 4096^2 lattice up to 0.7 ms, session 29 calls 1-3).
   bool given = false;
   CellBox target{0, 0, -1, -1};
   if constexpr (ExactLattice) target = nearest_box();
@@ -259,34 +259,62 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // The cells where a site better than `best` could lie, with `bounds` set to match. With
   // `inside` (a box of quantile cells, the one just scanned), that box itself where it holds the
   // region (quantile_box_holds): most searches end there (kuzmin, counted on the CPU: 80% of
-  // these tests), and the region's four look-ups were half of the light walk's.
-  auto cells_within = [&](double x_lo, double y_lo, double x_hi, double y_hi, const CellBox* inside) {
-    if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
-    return cells_of(g, x_lo, y_lo, x_hi, y_hi);
-  };
+  // these tests), and the region's four look-ups were half of the light walk's. A lattice's walks
+  // keep the former code, a look-up in each branch: with one look-up after the branches ptxas
+  // placed their spills worse (the 4096^2 lattice 20.6 -> 21.25 ms) and the others' better
+  // (kuzmin 52.95 -> 52.56; H100, session 29 call 3).
   auto region_of_best = [&](const CellBox* inside = nullptr) {
-    CellBox region = whole;
+    if constexpr (ExactLattice) {
+      static_cast<void>(inside);
+      CellBox region = whole;
+      if (phase == nearest) {
+        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
+        region = cells_of(g, ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach);
+        bounds.disc = true;
+        bounds.ox = ps.x;
+        bounds.oy = ps.y;
+        bounds.reach = reach;
+      } else {
+        CircleRegion r;
+        if (circle_region(pa, pb, best_p, &r)) {
+          if constexpr (Strips) last_region = r;
+          region = cells_of(g, r.x_lo, r.y_lo, r.x_hi, r.y_hi);
+          bounds.disc = true;
+          bounds.ox = r.ox;
+          bounds.oy = r.oy;
+          bounds.reach = r.reach;
+        }
+      }
+      return region;
+    }
+    double x_lo, y_lo, x_hi, y_hi;
     if (phase == nearest) {
       // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
       // sqrt and of the box's corners, and underflow in d2, all covered).
       const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
-      region = cells_within(ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach, inside);
+      x_lo = ps.x - reach;
+      y_lo = ps.y - reach;
+      x_hi = ps.x + reach;
+      y_hi = ps.y + reach;
       bounds.disc = true;
       bounds.ox = ps.x;
       bounds.oy = ps.y;
       bounds.reach = reach;
     } else {
       CircleRegion r;
-      if (circle_region(pa, pb, best_p, &r)) {
-        if constexpr (Strips) last_region = r;
-        region = cells_within(r.x_lo, r.y_lo, r.x_hi, r.y_hi, inside);
-        bounds.disc = true;
-        bounds.ox = r.ox;
-        bounds.oy = r.oy;
-        bounds.reach = r.reach;
-      }
+      if (!circle_region(pa, pb, best_p, &r)) return whole;
+      if constexpr (Strips) last_region = r;
+      x_lo = r.x_lo;
+      y_lo = r.y_lo;
+      x_hi = r.x_hi;
+      y_hi = r.y_hi;
+      bounds.disc = true;
+      bounds.ox = r.ox;
+      bounds.oy = r.oy;
+      bounds.reach = r.reach;
     }
-    return region;
+    if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
+    return cells_of(g, x_lo, y_lo, x_hi, y_hi);
   };
 
   // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
