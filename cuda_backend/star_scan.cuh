@@ -222,6 +222,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // star.comp counted).
   auto nearest_box = [&]() {
     if (g.xb) {
+      if constexpr (ExactLattice) return cells_of(g, ps.x, ps.y, ps.x, ps.y);  // its former code
       const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
       return CellBox{cx, cy, cx, cy};
     }
@@ -286,35 +287,36 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
         }
       }
       return region;
-    }
-    double x_lo, y_lo, x_hi, y_hi;
-    if (phase == nearest) {
-      // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
-      // sqrt and of the box's corners, and underflow in d2, all covered).
-      const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
-      x_lo = ps.x - reach;
-      y_lo = ps.y - reach;
-      x_hi = ps.x + reach;
-      y_hi = ps.y + reach;
-      bounds.disc = true;
-      bounds.ox = ps.x;
-      bounds.oy = ps.y;
-      bounds.reach = reach;
     } else {
-      CircleRegion r;
-      if (!circle_region(pa, pb, best_p, &r)) return whole;
-      if constexpr (Strips) last_region = r;
-      x_lo = r.x_lo;
-      y_lo = r.y_lo;
-      x_hi = r.x_hi;
-      y_hi = r.y_hi;
-      bounds.disc = true;
-      bounds.ox = r.ox;
-      bounds.oy = r.oy;
-      bounds.reach = r.reach;
+      double x_lo, y_lo, x_hi, y_hi;
+      if (phase == nearest) {
+        // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
+        // sqrt and of the box's corners, and underflow in d2, all covered).
+        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
+        x_lo = ps.x - reach;
+        y_lo = ps.y - reach;
+        x_hi = ps.x + reach;
+        y_hi = ps.y + reach;
+        bounds.disc = true;
+        bounds.ox = ps.x;
+        bounds.oy = ps.y;
+        bounds.reach = reach;
+      } else {
+        CircleRegion r;
+        if (!circle_region(pa, pb, best_p, &r)) return whole;
+        if constexpr (Strips) last_region = r;
+        x_lo = r.x_lo;
+        y_lo = r.y_lo;
+        x_hi = r.x_hi;
+        y_hi = r.y_hi;
+        bounds.disc = true;
+        bounds.ox = r.ox;
+        bounds.oy = r.oy;
+        bounds.reach = r.reach;
+      }
+      if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
+      return cells_of(g, x_lo, y_lo, x_hi, y_hi);
     }
-    if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
-    return cells_of(g, x_lo, y_lo, x_hi, y_hi);
   };
 
   // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
