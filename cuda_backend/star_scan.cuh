@@ -230,9 +230,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   };
   // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
   // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
-  // keep their former code here (the box, then the inbox; a region for a given neighbour too,
-  // below; and region_of_best's shape): their kernels lost most to ptxas' spill placement when
-  // it changed (the 4096^2 lattice up to 0.7 ms, session 29 calls 1-3).
+  // keep their former code (the box, then the inbox; a region for a given neighbour too, below;
+  // region_of_best's former shape), so that their kernels compile exactly as before (the same
+  // SASS, session 29 call 6): with the new code the 4096^2 lattice's star stage took 15.85 ms
+  // instead of 15.70 (H100, call 7).
   bool given = false;
   CellBox target{0, 0, -1, -1};
   if constexpr (ExactLattice) target = nearest_box();
@@ -260,10 +261,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // The cells where a site better than `best` could lie, with `bounds` set to match. With
   // `inside` (a box of quantile cells, the one just scanned), that box itself where it holds the
   // region (quantile_box_holds): most searches end there (kuzmin, counted on the CPU: 80% of
-  // these tests), and the region's four look-ups were half of the light walk's. A lattice's walks
-  // keep the former code, a look-up in each branch: with one look-up after the branches ptxas
-  // placed their spills worse (the 4096^2 lattice 20.6 -> 21.25 ms) and the others' better
-  // (kuzmin 52.95 -> 52.56; H100, session 29 call 3).
+  // these tests), and the region's four look-ups were half of the light walk's. The look-up
+  // after the branches rather than in each: ptxas placed kuzmin's spills better so (4096^2
+  // GPU-only 52.95 -> 52.56 ms, H100, session 29 call 3). A lattice's walks keep the former
+  // shape (see `given`).
   auto region_of_best = [&](const CellBox* inside = nullptr) {
     if constexpr (ExactLattice) {
       static_cast<void>(inside);

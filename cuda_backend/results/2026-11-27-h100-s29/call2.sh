@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Session 29 call 2: D (the bundle's build, 2ad1e7f): A, with a lattice's walks in their former
+# order, and the first phase's retry launched after the inbox kernel; D-phase0: D with
+# EXPANSE_CUDA_EARLY_RETRY=phase0 (the retry right after the first phase, as before); against
+# session 28's final build (baseline/): 4096^2 every input, two rounds alternated; 512^2 to
+# 2048^2 one round; kuzmin's timelines; D's CUDA tests, conformance on CUDA, and
+# compute-sanitizer's four tools on the CUDA tests' small cases.
+set -u
+bash bench/device/run-on-device.sh env > /dev/null 2>&1; cp $OUT/env.txt $OUT/call2-env.txt 2>/dev/null; rm -f $OUT/env.txt
+export LD_LIBRARY_PATH=$PWD/.devrun/lib
+cat .devrun/COMMIT .devrun/baseline/COMMIT
+J=$OUT/call2-compare.jsonl
+tag() { python3 -c "
+import sys,json
+for l in sys.stdin:
+  try: r=json.loads(l)
+  except Exception: continue
+  r['variant']='$1'; print(json.dumps(r))" >> $J; }
+B=.devrun/expanse_bench_cuda O=.devrun/baseline/expanse_bench_cuda
+for round in 1 2; do
+  timeout 150 $B --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag D
+  EXPANSE_CUDA_EARLY_RETRY=phase0 timeout 100 $B --sizes 4096 --dists gaussian,kuzmin --reps 5 | tag D-phase0
+  timeout 150 $O --sizes 4096 --dists uniform,gaussian,grid,kuzmin --reps 5 | tag base
+done
+timeout 100 $B --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag D
+timeout 100 $O --sizes 512,1024,2048 --dists uniform,gaussian,grid,kuzmin --reps 7 | tag base
+python3 - $J <<'PY'
+import json,sys,collections
+d=collections.defaultdict(list)
+for l in open(sys.argv[1]):
+  r=json.loads(l)
+  s=r.get('pipeline_device_stages_ms') or {}
+  g=sum(v for k,v in s.items() if k not in ('upload','download'))
+  d[(r['distribution'], r['side'], r['variant'])].append('%.2f (stars %.2f unpiped %.2f, def %d, seam %.4f%%, h2h %.1f)'%(g,s.get('stars',0),r['device_stages_ms'].get('stars',0),r['deferred'],100*r.get('seam_share',0),r.get('host_to_host_ms',0)))
+for k in sorted(d): print(*k, ' / '.join(d[k]))
+PY
+for v in D D-phase0; do
+  echo "== kuzmin $v"; [ $v = D-phase0 ] && export EXPANSE_CUDA_EARLY_RETRY=phase0
+  EXPANSE_CUDA_STAR_TIMELINE=1 timeout 60 $B --sizes 4096 --dists kuzmin --reps 1 2>&1 >/dev/null | grep "star stage" | tail -4
+done > $OUT/call2-timeline.txt
+unset EXPANSE_CUDA_EARLY_RETRY
+cat $OUT/call2-timeline.txt
+timeout 150 .devrun/expanse_cuda_tests > $OUT/call2-cuda-tests.log 2>&1; echo "cuda tests rc $?"; grep -E "^FAIL" $OUT/call2-cuda-tests.log | head; tail -1 $OUT/call2-cuda-tests.log
+timeout 170 .devrun/expanse_conformance --backend cuda > $OUT/call2-conformance.log 2>&1; echo "conformance rc $?"; tail -2 $OUT/call2-conformance.log
