@@ -259,12 +259,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   CircleRegion last_region{};
 
   // The cells where a site better than `best` could lie, with `bounds` set to match. With
-  // `inside` (a box of quantile cells, the one just scanned), that box itself where it holds the
-  // region (quantile_box_holds): most searches end there (kuzmin, counted on the CPU: 80% of
-  // these tests), and the region's four look-ups were half of the light walk's. The look-up
-  // after the branches rather than in each: ptxas placed kuzmin's spills better so (4096^2
-  // GPU-only 52.95 -> 52.56 ms, H100, session 29 call 3). A lattice's walks keep the former
-  // shape (see `given`).
+  // `inside` (a box of quantile cells, the one just scanned), in the second phase's walks
+  // (ReadsInbox), that box itself where it holds the region (quantile_box_holds): most searches
+  // end there (kuzmin, counted on the CPU: 80% of these tests), and the region's four look-ups
+  // were half of the light walk's. The first phase's walks kept it a little slower (H100, 4096^2,
+  // session 29 calls 9-10: kuzmin's first phase 32.15 -> 32.35 ms with it; without it there,
+  // kuzmin GPU-only 52.63 -> 52.40, gaussian as it was). The look-up after the branches rather
+  // than in each: ptxas placed kuzmin's spills better so (52.95 -> 52.56 ms, call 3). A
+  // lattice's walks keep the former shape (see `given`).
   auto region_of_best = [&](const CellBox* inside = nullptr) {
     if constexpr (ExactLattice) {
       static_cast<void>(inside);
@@ -315,7 +317,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
         bounds.oy = r.oy;
         bounds.reach = r.reach;
       }
-      if (g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
+      if (ReadsInbox && g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
       return cells_of(g, x_lo, y_lo, x_hi, y_hi);
     }
   };
