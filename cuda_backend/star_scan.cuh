@@ -472,7 +472,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // order. The first flagged candidate leaves the walk where the thread would stand on meeting
   // it (its row, part and slot, the work counted so far) and is taken as the thread would; with
   // none, the walk stands after the last row.
-  bool sparse_rows = false;  // the last batch of rows held no candidate
   auto scan_rows_together = [&]() {
     const unsigned lane = threadIdx.x & 31;
     const int count = min(32, target.y1 - y);
@@ -534,49 +533,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     y += count;
     part = (y >= visited.y0 && y <= visited.y1) ? 1 : 0;
     slot = slot_end = 0;
-    sparse_rows = total == 0;
-  };
-  // Stretches of empty rows (a heavy tail's tall, thin regions: kuzmin 4096^2's longest
-  // retried walks are 97% empty cells, 300 to 1,000 predicates in 25,000 to 50,000 units,
-  // counted on the CPU), where a batch of 32 rows cost clip_row's chain of look-ups for each
-  // row. After a batch with no candidate, lane k looks at rows y + 1 + k kSkipRows onwards
-  // unclipped: two loads a part, all independent. A row whose unclipped parts hold no site holds
-  // none clipped, and the thread would only have set up its parts (counted as it counts them).
-  // Stops before the first row that may hold one (true), or after `span` rows that hold none.
-  constexpr int kSkipRows = 4;
-  auto skip_empty_rows = [&]() {
-    const int lane = static_cast<int>(threadIdx.x & 31);
-    const int span = min(32 * kSkipRows, target.y1 - y);
-    unsigned steps = 0;  // this lane's row setups before its first row that may hold a site
-    int empty = 0;       // and those rows
-    bool found = false;
-#pragma unroll
-    for (int r = 0; r < kSkipRows; ++r) {
-      const int row_y = y + 1 + lane * kSkipRows + r;
-      const bool rows = row_y >= visited.y0 && row_y <= visited.y1;
-      const int a1 = rows ? visited.x0 - 1 : target.x1, b0 = visited.x1 + 1;
-      const int c = row_y * g.gx;
-      const bool mine = row_y <= y + span;
-      const bool any_a = mine && target.x0 <= a1 &&
-                         load_cell_start(g.cell_start, c + target.x0) != load_cell_start(g.cell_start, c + a1 + 1);
-      const bool any_b = mine && rows && b0 <= target.x1 &&
-                         load_cell_start(g.cell_start, c + b0) != load_cell_start(g.cell_start, c + target.x1 + 1);
-      if (mine && !found) {
-        if (any_a || any_b) {
-          found = true;
-        } else {
-          steps += rows ? 2u : 1u;
-          ++empty;
-        }
-      }
-    }
-    const unsigned holding = __ballot_sync(0xffffffffu, found);
-    const int f = holding ? __ffs(static_cast<int>(holding)) - 1 : 32;
-    work += __reduce_add_sync(0xffffffffu, lane <= f ? steps : 0u);
-    y += holding ? f * kSkipRows + __shfl_sync(0xffffffffu, empty, f) : span;
-    part = (y >= visited.y0 && y <= visited.y1) ? 1 : 0;
-    slot = slot_end = 0;
-    return holding != 0u;
   };
 #endif
   for (;;) {    // exact loop
@@ -590,12 +546,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           if (strip < 0 && slot >= slot_end && !(part == 0 && y >= visited.y0 && y <= visited.y1) &&
               y < target.y1) {
             batched = true;
-            if constexpr (!ExactLattice) {
-              if (sparse_rows)
-                while (y < target.y1 && work <= budget && !skip_empty_rows()) {
-                }
-            }
-            if (y < target.y1 && work <= budget) scan_rows_together();
+            scan_rows_together();
           }
         }
 #endif
