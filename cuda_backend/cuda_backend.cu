@@ -270,6 +270,7 @@ class CudaBackend final : public Backend {
       const char* priority_env = std::getenv("EXPANSE_CUDA_EDGE_PRIORITY");
       const bool edge_least = priority_env && std::strcmp(priority_env, "least") == 0;
       EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.edge_stream, cudaStreamNonBlocking, edge_least ? least : greatest));
+      EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.low_stream, cudaStreamNonBlocking, least));
     }
     EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), Context::kPinnedWords * sizeof(unsigned int),
                                cudaHostAllocDefault));
@@ -278,7 +279,7 @@ class CudaBackend final : public Backend {
   ~CudaBackend() override {
     staging_.reset();
     side_staging_.reset();
-    for (cudaStream_t extra : {ctx_.side_stream, ctx_.edge_stream}) {
+    for (cudaStream_t extra : {ctx_.side_stream, ctx_.edge_stream, ctx_.low_stream}) {
       if (!extra) continue;
       cudaStreamSynchronize(extra);
       cudaStreamDestroy(extra);
