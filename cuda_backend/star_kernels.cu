@@ -855,10 +855,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     const unsigned edge_budget =
         edge_first_env ? std::min(budget, static_cast<unsigned>(std::strtoul(edge_first_env, nullptr, 10))) : pass_budget;
     const char* edge_retry_env = std::getenv("EXPANSE_CUDA_EDGE_RETRY");
-    const bool edge_retry_low = ctx.low_stream && edge_retry_env && std::strncmp(edge_retry_env, "low", 3) == 0;
-    const int edge_retry_blocks = edge_retry_low && edge_retry_env[3] == ':'
-                                      ? std::max(1, std::atoi(edge_retry_env + 4)) * ctx.multiprocessors
-                                      : retry_blocks;
+    const bool edge_retry_low = ctx.low_stream && !(edge_retry_env && std::strcmp(edge_retry_env, "edge") == 0);
+    const int edge_retry_blocks =
+        !edge_retry_low ? retry_blocks
+        : edge_retry_env && std::strncmp(edge_retry_env, "low:", 4) == 0
+            ? std::max(1, std::atoi(edge_retry_env + 4)) * ctx.multiprocessors
+            : 2 * ctx.multiprocessors;
+    const char* phase0_retry_env = std::getenv("EXPANSE_CUDA_PHASE0_RETRY");
+    const bool phase0_retry_low = ctx.low_stream && phase0_retry_env && std::strcmp(phase0_retry_env, "low") == 0;
     const char* edge_after_env = std::getenv("EXPANSE_CUDA_EDGE_AFTER");
     const bool edge_after_phase0 = edge_after_env && std::strcmp(edge_after_env, "phase0") == 0;
     const bool light = two_passes && !first_full;
@@ -922,8 +926,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       constexpr bool striped = decltype(with_strips)::value;
-      cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr, phase0_done = nullptr, edge_passed = nullptr,
-                  low_join = nullptr;
+      cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr, phase0_done = nullptr, edge_passed = nullptr;
+      bool low_used = false;  // work went to ctx.low_stream
       timeline.mark("start", stream);
       // The strips serve the edge's walks and the warps' second pass: built on the edge's stream,
       // beside the first phase, which needs none (session 24 call 3: 0.22 ms of the bucket
@@ -960,15 +964,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         const cudaStream_t rs = edge_retry_low ? ctx.low_stream : es;
         if (edge_retry_low) {
           EXPANSE_CUDA(cudaEventCreateWithFlags(&edge_passed, cudaEventDisableTiming));
-          EXPANSE_CUDA(cudaEventCreateWithFlags(&low_join, cudaEventDisableTiming));
           EXPANSE_CUDA(cudaEventRecord(edge_passed, es));
           EXPANSE_CUDA(cudaStreamWaitEvent(rs, edge_passed));
+          low_used = true;
         }
         star_retry_kernel<StarSearch::boxes, edge_b, exact, striped><<<edge_retry_blocks, 128, 0, rs>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
             edge_counts + 1);
         timeline.mark("edge retry", rs);
-        if (edge_retry_low) EXPANSE_CUDA(cudaEventRecord(low_join, rs));
       };
       // The first phase's retries on the edge's stream, once its own walks are done, beside the
       // second phase: the list as the first phase leaves it (its length kept in counters[13]);
@@ -978,11 +981,13 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         copy_count_kernel<<<1, 1, 0, stream>>>(d_counters.get() + 7, d_counters.get() + 13);
         EXPANSE_CUDA(cudaEventCreateWithFlags(&phase0_done, cudaEventDisableTiming));
         EXPANSE_CUDA(cudaEventRecord(phase0_done, stream));
-        EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, phase0_done));
-        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ctx.edge_stream>>>(
+        const cudaStream_t ps = phase0_retry_low ? ctx.low_stream : ctx.edge_stream;
+        low_used = low_used || phase0_retry_low;
+        EXPANSE_CUDA(cudaStreamWaitEvent(ps, phase0_done));
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ps>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget, d_retry.get(),
             d_counters.get() + 13);
-        timeline.mark("phase 0 retry", ctx.edge_stream);
+        timeline.mark("phase 0 retry", ps);
       };
       if (!edge_after_phase0) launch_edge();
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.
@@ -1034,11 +1039,14 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (edge.keys) {
         EXPANSE_CUDA(cudaEventRecord(join, ctx.edge_stream));
         EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
-        if (low_join) {
+        if (low_used) {
+          cudaEvent_t low_join = nullptr;
+          EXPANSE_CUDA(cudaEventCreateWithFlags(&low_join, cudaEventDisableTiming));
+          EXPANSE_CUDA(cudaEventRecord(low_join, ctx.low_stream));
           EXPANSE_CUDA(cudaStreamWaitEvent(stream, low_join));
           EXPANSE_CUDA(cudaEventDestroy(low_join));
-          EXPANSE_CUDA(cudaEventDestroy(edge_passed));
         }
+        if (edge_passed) EXPANSE_CUDA(cudaEventDestroy(edge_passed));
         EXPANSE_CUDA(cudaEventDestroy(fork));
         EXPANSE_CUDA(cudaEventDestroy(join));
       }
