@@ -263,13 +263,9 @@ class CudaBackend final : public Backend {
       // The side ring copies while the host's pool faults in the output: fewer threads.
       side_staging_ = std::make_unique<PinnedStaging>(std::size_t{32} << 20, 8);
       ctx_.side_staging = side_staging_.get();
-      // EXPANSE_CUDA_EDGE_PRIORITY=least gives the edge's stream the main stream's priority, for
-      // comparisons.
       int least = 0, greatest = 0;
       EXPANSE_CUDA(cudaDeviceGetStreamPriorityRange(&least, &greatest));
-      const char* priority_env = std::getenv("EXPANSE_CUDA_EDGE_PRIORITY");
-      const bool edge_least = priority_env && std::strcmp(priority_env, "least") == 0;
-      EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.edge_stream, cudaStreamNonBlocking, edge_least ? least : greatest));
+      EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.edge_stream, cudaStreamNonBlocking, greatest));
       EXPANSE_CUDA(cudaStreamCreateWithPriority(&ctx_.low_stream, cudaStreamNonBlocking, least));
     }
     EXPANSE_CUDA(cudaHostAlloc(reinterpret_cast<void**>(&ctx_.pinned_words), Context::kPinnedWords * sizeof(unsigned int),

@@ -116,8 +116,8 @@ struct Context {
   /// A stream of the highest priority for the star walks of the sites along the grid's edge,
   /// which run alongside the rest (grow_per_site); null when the caller lent `stream`.
   cudaStream_t edge_stream = nullptr;
-  /// A stream of the main stream's priority (the lowest), beside it: the edge's retry where
-  /// EXPANSE_CUDA_EDGE_RETRY=low asks (grow_per_site); null when the caller lent `stream`.
+  /// A stream of the main stream's priority (the lowest), beside it, for the edge's retry
+  /// (grow_per_site); null when the caller lent `stream`.
   cudaStream_t low_stream = nullptr;
   /// 0..15: counters and sizes; 16..31: the two quantile guide keys (16 is 8-byte aligned).
   static constexpr int kPinnedWords = 32;

@@ -122,8 +122,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
 /// the second pass's work, at most 65,536 units again against 24,170 one ring further in
 /// (counted on the CPU, session 13). A warp walks such a site alone, and the last one to finish
 /// set the second pass's length: ~9 ms of 48 at 4096^2 uniform (H100, ncu), the rest of the GPU
-/// idle. So these sites take both passes on a stream of their own (Context::edge_stream) of the
-/// highest priority, alongside everyone else's first pass, and their second pass starts early.
+/// idle. So these sites take their first pass on a stream of their own (Context::edge_stream) of
+/// the highest priority, alongside everyone else's first pass, and their second pass starts
+/// early, at the main stream's priority (Context::low_stream), in the first phase's drain.
 struct EdgeCells {
   const std::uint32_t* keys = nullptr;  ///< null: no edge set apart
   int gx = 0, gy = 0, depth = 0;
@@ -854,15 +855,26 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     const char* edge_first_env = std::getenv("EXPANSE_CUDA_EDGE_FIRST_BUDGET");
     const unsigned edge_budget =
         edge_first_env ? std::min(budget, static_cast<unsigned>(std::strtoul(edge_first_env, nullptr, 10))) : pass_budget;
+    // The edge's retry (the warps that walk again the edge's sites that ran past the first pass's
+    // budget) on a stream of the main stream's priority, 2 blocks a multiprocessor, rather than
+    // on the edge's stream of the highest: its blocks then wait for the first phase's to be
+    // dispatched and run in that phase's drain and beside the second phase, where on the edge's
+    // stream they took their slots from the first phase (H100, session 30 calls 4-5, GPU-only,
+    // two rounds alternated: 4096^2 uniform 34.18 / 34.22 -> 33.90 / 33.91 ms, its first phase
+    // ending at 21.1 ms instead of 21.6; kuzmin 52.46 / 52.51 -> 51.97 / 51.93; gaussian 41.0
+    // either way; 2048^2 kuzmin 16.95 -> 16.73, 1024^2 6.86 -> 6.15). The edge's first pass
+    // stays on its stream: at the main stream's priority it waited out the first phase and
+    // ended last (call 3: uniform 34.2 -> 35.1-35.5). Lattices keep the former launch: no size
+    // gained, 512^2 lost 0.1 ms (call 5). EXPANSE_CUDA_EDGE_RETRY=edge launches it as before,
+    // =low:B with B blocks a multiprocessor, for comparisons.
     const char* edge_retry_env = std::getenv("EXPANSE_CUDA_EDGE_RETRY");
-    const bool edge_retry_low = ctx.low_stream && !(edge_retry_env && std::strcmp(edge_retry_env, "edge") == 0);
+    const bool edge_retry_low =
+        ctx.low_stream && !exact_lattice && !(edge_retry_env && std::strcmp(edge_retry_env, "edge") == 0);
     const int edge_retry_blocks =
         !edge_retry_low ? retry_blocks
         : edge_retry_env && std::strncmp(edge_retry_env, "low:", 4) == 0
             ? std::max(1, std::atoi(edge_retry_env + 4)) * ctx.multiprocessors
             : 2 * ctx.multiprocessors;
-    const char* phase0_retry_env = std::getenv("EXPANSE_CUDA_PHASE0_RETRY");
-    const bool phase0_retry_low = ctx.low_stream && phase0_retry_env && std::strcmp(phase0_retry_env, "low") == 0;
     const char* edge_after_env = std::getenv("EXPANSE_CUDA_EDGE_AFTER");
     const bool edge_after_phase0 = edge_after_env && std::strcmp(edge_after_env, "phase0") == 0;
     const bool light = two_passes && !first_full;
@@ -959,8 +971,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
               edge_counts, edge_retry, nullptr, edge_counts + 1);
         }
         timeline.mark("edge first pass", es);
-        // EXPANSE_CUDA_EDGE_RETRY=low[:B]: the edge's retry on the stream of the main stream's
-        // priority (B blocks a multiprocessor), for comparisons.
         const cudaStream_t rs = edge_retry_low ? ctx.low_stream : es;
         if (edge_retry_low) {
           EXPANSE_CUDA(cudaEventCreateWithFlags(&edge_passed, cudaEventDisableTiming));
@@ -981,13 +991,11 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         copy_count_kernel<<<1, 1, 0, stream>>>(d_counters.get() + 7, d_counters.get() + 13);
         EXPANSE_CUDA(cudaEventCreateWithFlags(&phase0_done, cudaEventDisableTiming));
         EXPANSE_CUDA(cudaEventRecord(phase0_done, stream));
-        const cudaStream_t ps = phase0_retry_low ? ctx.low_stream : ctx.edge_stream;
-        low_used = low_used || phase0_retry_low;
-        EXPANSE_CUDA(cudaStreamWaitEvent(ps, phase0_done));
-        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ps>>>(
+        EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, phase0_done));
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ctx.edge_stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget, d_retry.get(),
             d_counters.get() + 13);
-        timeline.mark("phase 0 retry", ps);
+        timeline.mark("phase 0 retry", ctx.edge_stream);
       };
       if (!edge_after_phase0) launch_edge();
       // The phases' kernels, one after the other (StarInbox): the first posts, the second reads.

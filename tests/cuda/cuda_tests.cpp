@@ -280,6 +280,20 @@ int main(int argc, char** argv) {
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
 
+  // The edge's retry (nearly every edge site's, at a first-pass budget of 8) on the edge's own
+  // stream as before, and on the low stream with one block a multiprocessor (the default has 2).
+  setenv("EXPANSE_CUDA_FIRST_BUDGET", "8", 1);
+  for (const char* edge_retry : {"edge", "low:1"}) {
+    setenv("EXPANSE_CUDA_EDGE_RETRY", edge_retry, 1);
+    const std::string label = std::string("edge retry ") + edge_retry + ": ";
+    grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
+    grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+    if (small) continue;
+    grow_case(*backend, label + "kuzmin 200000", generate_points("kuzmin", 200000, 4), per_site, false, false);
+  }
+  unsetenv("EXPANSE_CUDA_EDGE_RETRY");
+  unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
+
   // Two phases (StarInbox; the default above 2^18 sites): the odd sites' walks start from and
   // step through what the even sites posted, alone and with the first pass's hand-offs (a first
   // budget of 8 sends nearly every site to the warps); the stars that inboxes hold whole recorded
