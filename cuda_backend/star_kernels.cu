@@ -875,9 +875,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         : edge_retry_env && std::strncmp(edge_retry_env, "low:", 4) == 0
             ? std::max(1, std::atoi(edge_retry_env + 4)) * ctx.multiprocessors
             : 2 * ctx.multiprocessors;
-    const char* phase0_blocks_env = std::getenv("EXPANSE_CUDA_PHASE0_RETRY_BLOCKS");
-    const int phase0_retry_blocks =
-        phase0_blocks_env ? std::max(1, std::atoi(phase0_blocks_env)) * ctx.multiprocessors : retry_blocks;
     const char* edge_after_env = std::getenv("EXPANSE_CUDA_EDGE_AFTER");
     const bool edge_after_phase0 = edge_after_env && std::strcmp(edge_after_env, "phase0") == 0;
     const bool light = two_passes && !first_full;
@@ -995,7 +992,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         EXPANSE_CUDA(cudaEventCreateWithFlags(&phase0_done, cudaEventDisableTiming));
         EXPANSE_CUDA(cudaEventRecord(phase0_done, stream));
         EXPANSE_CUDA(cudaStreamWaitEvent(ctx.edge_stream, phase0_done));
-        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<phase0_retry_blocks, 128, 0, ctx.edge_stream>>>(
+        star_retry_kernel<StarSearch::boxes, first_b, exact, striped><<<retry_blocks, 128, 0, ctx.edge_stream>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), retry_budget, d_retry.get(),
             d_counters.get() + 13);
         timeline.mark("phase 0 retry", ctx.edge_stream);
