@@ -698,7 +698,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   DeviceArray<int> d_owned(n, stream), d_offset(n + 1, stream);
   // [9..11]: the edge's lists (EdgeCells); [12]: the second phase's sites that search; [13]: the
   // retry list's length after the first phase (launch_first_phase_retry)
-  DeviceArray<unsigned int> d_counters(16, stream);
+  DeviceArray<unsigned int> d_counters(14, stream);
   DeviceArray<int> d_retry(n, stream);  // sites the first star pass leaves to the second
   const int* d_sorted_ids = buckets.sorted_ids.get();
 
@@ -841,11 +841,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                                               : budget;
     // The edge's site list and its own retry and undecided lists, and their counts in
     // counters[9..11]: its sites, its retries, its undecided.
-    // EXPANSE_CUDA_EDGE_PACK=B (for comparisons): the edge's first pass first with budget B, the
-    // sites past it then walked together (packed into few blocks) with the first pass's budget.
-    const char* pack_env = std::getenv("EXPANSE_CUDA_EDGE_PACK");
-    const unsigned pack_budget = pack_env ? static_cast<unsigned>(std::strtoul(pack_env, nullptr, 10)) : 0u;
-    DeviceArray<int> d_edge(edge_depth > 0 ? (pack_budget ? 4 : 3) * n : 0, stream);
+    DeviceArray<int> d_edge(edge_depth > 0 ? 3 * n : 0, stream);
     int* const edge_sites = d_edge.get();
     int* const edge_retry = edge_depth > 0 ? edge_sites + n : nullptr;
     int* const edge_undecided = edge_depth > 0 ? edge_sites + 2 * n : nullptr;
@@ -962,18 +958,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           EXPANSE_CUDA(cudaEventCreateWithFlags(&stripped, cudaEventDisableTiming));
           EXPANSE_CUDA(cudaEventRecord(stripped, es));
         }
-        if (light && pack_budget > 0 && pack_budget < edge_budget) {
-          int* const packed = edge_sites + 3 * n;
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pack_budget, edge_sites,
-              edge_counts, packed, nullptr, d_counters.get() + 14);
-          star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, packed,
-              d_counters.get() + 14, edge_retry, edge_undecided, edge_counts + 1);
-          star_list_kernel<StarSearch::boxes, edge_b, exact, false, false, striped><<<retry_blocks, 128, 0, es>>>(
-              g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget,
-              edge_undecided, edge_counts + 2, edge_retry, nullptr, edge_counts + 1);
-        } else if (light) {
+        if (light) {
           star_list_kernel<StarSearch::boxes, edge_b, exact, true, false, striped><<<retry_blocks, 128, 0, es>>>(
               g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), edge_budget, edge_sites,
               edge_counts, edge_retry, edge_undecided, edge_counts + 1);
