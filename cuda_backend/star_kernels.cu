@@ -865,8 +865,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // either way; 2048^2 kuzmin 16.95 -> 16.73, 1024^2 6.86 -> 6.15). The edge's first pass
     // stays on its stream: at the main stream's priority it waited out the first phase and
     // ended last (call 3: uniform 34.2 -> 35.1-35.5). Lattices keep the former launch: no size
-    // gained, 512^2 lost 0.1 ms (call 5). EXPANSE_CUDA_EDGE_RETRY=edge launches it as before,
-    // =low:B with B blocks a multiprocessor, for comparisons.
+    // gained (calls 5-7). EXPANSE_CUDA_EDGE_RETRY=edge launches it as before, =low:B with B
+    // blocks a multiprocessor, for comparisons.
     const char* edge_retry_env = std::getenv("EXPANSE_CUDA_EDGE_RETRY");
     const bool edge_retry_low =
         ctx.low_stream && !exact_lattice && !(edge_retry_env && std::strcmp(edge_retry_env, "edge") == 0);
