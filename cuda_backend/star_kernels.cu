@@ -938,8 +938,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       constexpr int edge_b = decltype(edge_blocks)::value;
       constexpr bool exact = decltype(lattice)::value;
       constexpr bool striped = decltype(with_strips)::value;
+      // edge_passed: set where the edge's retry went to ctx.low_stream.
       cudaEvent_t fork = nullptr, join = nullptr, stripped = nullptr, phase0_done = nullptr, edge_passed = nullptr;
-      bool low_used = false;  // work went to ctx.low_stream
       timeline.mark("start", stream);
       // The strips serve the edge's walks and the warps' second pass: built on the edge's stream,
       // beside the first phase, which needs none (session 24 call 3: 0.22 ms of the bucket
@@ -976,7 +976,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           EXPANSE_CUDA(cudaEventCreateWithFlags(&edge_passed, cudaEventDisableTiming));
           EXPANSE_CUDA(cudaEventRecord(edge_passed, es));
           EXPANSE_CUDA(cudaStreamWaitEvent(rs, edge_passed));
-          low_used = true;
         }
         star_retry_kernel<StarSearch::boxes, edge_b, exact, striped><<<edge_retry_blocks, 128, 0, rs>>>(
             g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), budget, edge_retry,
@@ -1047,14 +1046,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
       if (edge.keys) {
         EXPANSE_CUDA(cudaEventRecord(join, ctx.edge_stream));
         EXPANSE_CUDA(cudaStreamWaitEvent(stream, join));
-        if (low_used) {
-          cudaEvent_t low_join = nullptr;
-          EXPANSE_CUDA(cudaEventCreateWithFlags(&low_join, cudaEventDisableTiming));
-          EXPANSE_CUDA(cudaEventRecord(low_join, ctx.low_stream));
-          EXPANSE_CUDA(cudaStreamWaitEvent(stream, low_join));
-          EXPANSE_CUDA(cudaEventDestroy(low_join));
+        if (edge_passed) {
+          // The same event, re-recorded after the retry: the main stream waits for it too.
+          EXPANSE_CUDA(cudaEventRecord(edge_passed, ctx.low_stream));
+          EXPANSE_CUDA(cudaStreamWaitEvent(stream, edge_passed));
+          EXPANSE_CUDA(cudaEventDestroy(edge_passed));
         }
-        if (edge_passed) EXPANSE_CUDA(cudaEventDestroy(edge_passed));
         EXPANSE_CUDA(cudaEventDestroy(fork));
         EXPANSE_CUDA(cudaEventDestroy(join));
       }
