@@ -166,6 +166,31 @@ EXPANSE_DEVICE_FORCE int strip_prefix(const BoundaryStrips& strips, int s, std::
   return lo;
 }
 
+/// The outer columns of a quantile grid whose x-axis has heavy tails, their sites column after
+/// column (tail_columns_width of them on each side; within a column row after row, within a cell
+/// in the grid's order). The grid's cells are sorted row-major, so a box scan costs a row
+/// segment a row; a radial cluster's x-tails (kuzmin) sit in wide columns that its dense centre
+/// cuts into thin rows, and their searches' boxes run hundreds of nearly empty rows tall and a
+/// few columns wide. Such a box, lying in one side's columns, is scanned here a column at a time
+/// (star_scan.cuh): the same cells, the same sites, a segment a column. Counted on the CPU
+/// (kuzmin 4096^2, two phases, first-pass budget 2^11), the sites of the outer 128 columns on
+/// each side, in rows away from the y-tails, held 11% of the phases' lock-step work for 1% of
+/// the sites; the y-tails' sites, whose boxes are wide and short, held under 1%. Built by
+/// build_tail_columns (star_kernels.cu) or the host mirror (star_host.hpp); none: ids null.
+struct TailColumns {
+  /// Column j of the copy (tail_column_index), rows r .. r': sites [start[j gy + r], start[j gy + r' + 1]).
+  const std::uint32_t* start = nullptr;
+  const int* ids = nullptr;  ///< the sites (local ids), in the copy's order
+  int width = 0;             ///< columns on each side
+};
+
+/// Columns on each side that a grid of gx columns copies: the outer eighth (quantile cells give
+/// a heavy tail five times its share of columns, so about its outer 2.5% of sites), none under
+/// 16 columns.
+EXPANSE_HOST_DEVICE int tail_columns_width(int gx) { return gx >= 16 ? gx / 8 : 0; }
+/// Grid column x's column in the copy (x within `width` of either side).
+EXPANSE_HOST_DEVICE int tail_column_index(int x, int gx, int width) { return x < width ? x : x - (gx - 2 * width); }
+
 /// A grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1] the sites
 /// of cell c (indices into the sorted arrays). Two kinds, one interface:
 ///  - uniform (xb == nullptr): cell_x is a rounded affine map, monotone;
@@ -188,6 +213,7 @@ struct GridView {
   /// point first_offset * |ab| / 2 left of the edge's midpoint (first_box_shape in star_grid.hpp).
   double first_reach = 1.0, first_offset = 1.0;
   BoundaryStrips strips;  ///< optional (strips.ids null: none)
+  TailColumns tail;       ///< optional (tail.ids null: none)
 
   // The same monotone function buckets the sites and converts search boxes to cells, so no
   // rounding can hide a site: x <= x' implies cell_x(x) <= cell_x(x').
@@ -260,6 +286,7 @@ EXPANSE_DEVICE_FORCE GridView of_kind(const GridView& g) {
   if constexpr (Kind == GridKind::uniform) {
     v.xb = nullptr;
     v.yb = nullptr;
+    v.tail.ids = nullptr;
   }
 #if defined(__CUDA_ARCH__)
   if constexpr (Kind == GridKind::guided)

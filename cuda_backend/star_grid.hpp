@@ -195,6 +195,13 @@ inline bool evenly_spread(unsigned max_count, int samples) {
 /// comparisons); =share,factor: tails weighed so (grid/quantile_tails.hpp).
 inline TailWeighing tail_weighing() { return parse_tail_weighing(std::getenv("EXPANSE_CUDA_TAILS")); }
 
+/// Whether quantile cells copy their outer columns (TailColumns in device_geometry.cuh);
+/// EXPANSE_CUDA_TAIL_COLUMNS=0 turns the copy off (for comparisons).
+inline bool tail_columns_wanted() {
+  const char* env = std::getenv("EXPANSE_CUDA_TAIL_COLUMNS");
+  return !(env && std::strcmp(env, "0") == 0);
+}
+
 /// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.
 inline bool quantile_guided(int cells) { return cells >= 8; }
 

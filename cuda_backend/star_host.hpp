@@ -107,6 +107,29 @@ class HostStarLayout {
     for (std::size_t t = 0; t < h; ++t) pred_[rank[hull.sites[t]]] = rank[hull.sites[t == 0 ? h - 1 : t - 1]];
     grid_.points = points_.data();
     grid_.cell_start = cell_start_.data();
+    if (quantile && tail_columns_wanted()) use_tail_columns(true);
+  }
+
+  /// With `on` (the default on quantile cells, as the kernels walk them), the walks scan tall
+  /// boxes in the grid's outer columns a column at a time (TailColumns), copied here as
+  /// build_tail_columns (star_kernels.cu) copies them: the outer columns' cells column after
+  /// column, each cell's sites in the grid's order.
+  void use_tail_columns(bool on) {
+    grid_.tail = {};
+    const int width = tail_columns_width(grid_.gx), gx = grid_.gx, gy = grid_.gy;
+    if (!on || !grid_.xb || width == 0) return;
+    tail_start_.assign(static_cast<std::size_t>(2 * width) * gy + 1, 0);
+    tail_ids_.clear();
+    for (int j = 0; j < 2 * width; ++j) {
+      const int x = j < width ? j : gx - 2 * width + j;
+      for (int r = 0; r < gy; ++r) {
+        tail_start_[static_cast<std::size_t>(j) * gy + r] = static_cast<std::uint32_t>(tail_ids_.size());
+        const std::size_t c = static_cast<std::size_t>(r) * gx + x;
+        for (std::uint32_t q = cell_start_[c]; q < cell_start_[c + 1]; ++q) tail_ids_.push_back(static_cast<int>(q));
+      }
+    }
+    tail_start_.back() = static_cast<std::uint32_t>(tail_ids_.size());
+    grid_.tail = {tail_start_.data(), tail_ids_.data(), width};
   }
 
   /// With `on`, the walks scan the grid's boundary strips where they are the shorter scan (the
@@ -336,6 +359,8 @@ class HostStarLayout {
   std::vector<std::uint32_t> strip_keys_;
   std::vector<int> strip_ids_;
   std::array<int, 4> strip_length_{};
+  std::vector<std::uint32_t> tail_start_;
+  std::vector<int> tail_ids_;
 };
 
 }  // namespace expanse::detail::cuda

@@ -187,6 +187,58 @@ __global__ void __launch_bounds__(kStripThreads) boundary_strips_kernel(GridView
   }
 }
 
+/// TailColumns' counts: entry j gy + r the sites of cell (the copy's column j, row r), and a
+/// last entry of 0, so that their exclusive sum is the copy's starts.
+__global__ void tail_counts_kernel(GridView g, int width, std::uint32_t* counts) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  const int entries = 2 * width * g.gy;
+  if (e > entries) return;
+  if (e == entries) {
+    counts[e] = 0;
+    return;
+  }
+  const int j = e / g.gy, r = e - j * g.gy;
+  const std::size_t c = static_cast<std::size_t>(r) * g.gx + (j < width ? j : g.gx - 2 * width + j);
+  counts[e] = g.cell_start[c + 1] - g.cell_start[c];
+}
+
+/// TailColumns' sites: each cell's, in the grid's order, from its start in the copy.
+__global__ void tail_ids_kernel(GridView g, int width, const std::uint32_t* start, int* ids) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (e >= 2 * width * g.gy) return;
+  const int j = e / g.gy, r = e - j * g.gy;
+  const std::size_t c = static_cast<std::size_t>(r) * g.gx + (j < width ? j : g.gx - 2 * width + j);
+  std::uint32_t at = start[e];
+  for (std::uint32_t q = g.cell_start[c]; q < g.cell_start[c + 1]; ++q, ++at) ids[at] = static_cast<int>(q);
+}
+
+/// Builds g.tail (TailColumns) on `stream` for a grid of quantile cells, in memory the bucketing
+/// no longer needs (`key_words`: the counts, the starts and the scan's storage; `id_words`: the
+/// sites), as the strips do on equal cells. False where the grid is too small or the words too few.
+bool build_tail_columns(GridView& g, std::uint32_t* key_words, int* id_words, std::size_t words,
+                        cudaStream_t stream) {
+  const int width = tail_columns_width(g.gx);
+  if (width == 0) return false;
+  const int entries = 2 * width * g.gy + 1;
+  std::size_t temp_bytes = 0;
+  EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, temp_bytes, key_words, key_words, entries, stream));
+  const std::size_t temp_words = (temp_bytes + 3) / 4 + 64;  // 64 for the storage's 256-byte alignment
+  if (2 * static_cast<std::size_t>(entries) + temp_words > words) return false;
+  std::uint32_t* const counts = key_words;
+  std::uint32_t* const start = key_words + entries;
+  auto* const temp = reinterpret_cast<unsigned char*>(
+      (reinterpret_cast<std::uintptr_t>(key_words + 2 * static_cast<std::size_t>(entries)) + 255) & ~std::uintptr_t{255});
+  constexpr int threads = 256;
+  const int blocks = (entries + threads - 1) / threads;
+  tail_counts_kernel<<<blocks, threads, 0, stream>>>(g, width, counts);
+  EXPANSE_CUDA(cudaGetLastError());
+  EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(temp, temp_bytes, counts, start, entries, stream));
+  tail_ids_kernel<<<blocks, threads, 0, stream>>>(g, width, start, id_words);
+  EXPANSE_CUDA(cudaGetLastError());
+  g.tail = {start, id_words, width};
+  return true;
+}
+
 /// The strips' arrays, in memory the bucketing no longer needs (its unsorted keys and ids: n
 /// words each). No allocation of their own: one array more, allocated per triangulation, has
 /// moved the bucketing of clustered inputs by a millisecond (kuzmin 4096^2 1.6 -> 2.7 ms, session
@@ -738,6 +790,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
                 &ctx.pinned_words[15],
                 reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
   apply_first_box(g, buckets.uniform(), input.sites);
+  // Quantile cells' outer columns copied column after column, for the searches whose boxes run
+  // tall in them (TailColumns; EXPANSE_CUDA_TAIL_COLUMNS=0: none, for comparisons).
+  if (!buckets.uniform() && !rings && tail_columns_wanted())
+    build_tail_columns(g, buckets.keys.get(), buckets.ids.get(), n, stream);
   // Strips for grids of equal cells over inputs that are no small lattice: a uniform square's
   // hull-hugging sites. Quantile cells' outer rows and columns hold a clustered input's sparse
   // tails, where the strips' scattered reads lost: kuzmin 4096^2 GPU-only 66.7 -> 69.6 ms, the

@@ -119,6 +119,48 @@ EXPANSE_DEVICE_FORCE void clip_row(const GridView& g, int y, const SearchBounds&
   if (hi < HUGE_VAL) *x1 = min(*x1, g.cell_x(hi));
 }
 
+/// clip_row across: narrows the rows [*y0, *y1] of column x to those that can hold a site inside
+/// `bounds` (a column scan of TailColumns), with the same margins.
+EXPANSE_DEVICE_FORCE void clip_column(const GridView& g, int x, const SearchBounds& bounds, int* y0, int* y1) {
+  double xl, xh;
+  g.x_bounds(x, &xl, &xh);
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  if (bounds.disc) {
+    const double dx = fmax(fmax(xl - bounds.ox, bounds.ox - xh), 0.0);
+    if (dx > bounds.reach * (1.0 + 1e-9)) {
+      *y1 = *y0 - 1;
+      return;
+    }
+    const double half = sqrt(fmax(bounds.reach * bounds.reach * (1.0 + 4e-9) - dx * dx, 0.0)) * (1.0 + 1e-9) +
+                        1e-9 * bounds.reach + 1e-300;
+    lo = bounds.oy - half - 1e-15 * fabs(bounds.oy);
+    hi = bounds.oy + half + 1e-15 * fabs(bounds.oy);
+  }
+  if (bounds.apex) {
+    // Left of a->b: ex (py - ay) > ey (px - ax). In the column's band of x, for ex > 0 that is
+    // y > ay + ey (px - ax) / ex at its smallest; for ex < 0, y < the largest.
+    const double2 a = bounds.a;
+    const double ex = bounds.b.x - a.x, ey = bounds.b.y - a.y;
+    if (ex != 0.0) {
+      const double rise = ey / ex;
+      const double t1 = rise * (xl - a.x), t2 = rise * (xh - a.x);
+      const double slop = 1e-9 * (fabs(a.y) + fabs(t1) + fabs(t2) + fabs(ey)) + 1e-300;
+      if (ex > 0.0)
+        lo = fmax(lo, a.y + fmin(t1, t2) - slop);
+      else
+        hi = fmin(hi, a.y + fmax(t1, t2) + slop);
+    } else {
+      const double slop = 1e-9 * fabs(a.x) + 1e-300;
+      if ((ey > 0.0 && xl > a.x + slop) || (ey < 0.0 && xh < a.x - slop)) {
+        *y1 = *y0 - 1;
+        return;
+      }
+    }
+  }
+  if (lo > -HUGE_VAL) *y0 = max(*y0, g.cell_y(lo));
+  if (hi < HUGE_VAL) *y1 = min(*y1, g.cell_y(hi));
+}
+
 /// The exact verdict on candidate ip, which the filters could not decide: 1 if it is better
 /// than `best` (nearer to site s, or a smaller circle's apex of a->b under CGAL's perturbation),
 /// 0 if not, 2 if the device cannot decide. Out of line: the exact arithmetic needs far more
@@ -247,6 +289,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   if constexpr (!ExactLattice) {
     if (!given) target = nearest_box();
   }
+  // The target is scanned a line at a time: a row, or a column of TailColumns (`across`) where
+  // the box lies in one side's copied columns and is taller than wide. `y` is the line.
+  bool across = false;
   int y = target.y0 - 1, part = 1;
   std::uint32_t slot = 0, slot_end = 0;
   int pending = -1;
@@ -351,12 +396,38 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     if constexpr (Strips) {
       if (strip >= 0) return load_readonly(g.strips.ids + static_cast<std::size_t>(strip) * g.strips.capacity + k);
     }
+    if (g.tail.ids && across) return load_readonly(g.tail.ids + k);
     return static_cast<int>(k);
+  };
+  // Whether line l of the target crosses the visited box (then it has two parts), and the
+  // target's last line.
+  auto crosses_visited = [&](int l) {
+    return (g.tail.ids && across) ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
+  };
+  auto last_line = [&]() { return (g.tail.ids && across) ? target.x1 : target.y1; };
+  // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
+  auto begin_target = [&]() {
+    const int w = g.tail.width;
+    across = g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) && target.y1 - target.y0 > target.x1 - target.x0;
+    y = (across ? target.x0 : target.y0) - 1;
   };
 
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
   // box minus the visited one, cut to `bounds`: sites [*first, *last).
   auto segment_of = [&](int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
+    if (g.tail.ids && across) {  // column row_y of TailColumns
+      const bool cols = row_y >= visited.x0 && row_y <= visited.x1;
+      int y0 = (cols && row_part == 1) ? visited.y1 + 1 : target.y0;
+      int y1 = (cols && row_part == 0) ? visited.y0 - 1 : target.y1;
+      *first = *last = 0;
+      if (!FirstPass && y0 <= y1 && (bounds.apex || bounds.disc)) clip_column(g, row_y, bounds, &y0, &y1);
+      if (y0 <= y1) {
+        const int c0 = tail_column_index(row_y, g.gx, g.tail.width) * g.gy + y0;
+        *first = load_cell_start(g.tail.start, c0);
+        *last = load_cell_start(g.tail.start, c0 + (y1 - y0) + 1);
+      }
+      return;
+    }
     const bool rows = row_y >= visited.y0 && row_y <= visited.y1;
     int x0 = (rows && row_part == 1) ? visited.x1 + 1 : target.x0;
     int x1 = (rows && row_part == 0) ? visited.x0 - 1 : target.x1;
@@ -474,10 +545,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // none, the walk stands after the last row.
   auto scan_rows_together = [&]() {
     const unsigned lane = threadIdx.x & 31;
-    const int count = min(32, target.y1 - y);
+    const int count = min(32, last_line() - y);
     const int row_y = y + 1 + static_cast<int>(lane);
     const bool mine = static_cast<int>(lane) < count;
-    const bool rows = row_y >= visited.y0 && row_y <= visited.y1;
+    const bool rows = crosses_visited(row_y);
     std::uint32_t a0 = 0, a1 = 0, b0 = 0, b1 = 0;
     if (mine) {
       segment_of(row_y, 0, &a0, &a1);
@@ -507,7 +578,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const unsigned owner_len_a = __shfl_sync(0xffffffffu, len_a, owner);
       const std::uint32_t owner_a0 = __shfl_sync(0xffffffffu, a0, owner), owner_b0 = __shfl_sync(0xffffffffu, b0, owner);
       const unsigned k = j - (owner_end - owner_len);
-      const std::uint32_t candidate = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
+      const std::uint32_t candidate_slot = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
+      const std::uint32_t candidate = j < total ? static_cast<std::uint32_t>(site_at(candidate_slot)) : candidate_slot;
       const LaneTest t = test_lanes(j < total, candidate, total - base);
       if (t.first < 0) continue;
       // The thread would stand at the flagged candidate's row and part, having set up every
@@ -524,14 +596,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       part = at_part;
       const int ip = static_cast<int>(__shfl_sync(0xffffffffu, candidate, first));
       slot_end = at_part == 0 ? at_a1 : at_b1;
-      slot = static_cast<std::uint32_t>(ip);
+      slot = __shfl_sync(0xffffffffu, candidate_slot, first);
       if (!take(ip, t.verdict, t.p, t.d2)) ++slot;
       return;
     }
     // None flagged: after the last row, as the thread would leave it.
     work += total_steps + total;
     y += count;
-    part = (y >= visited.y0 && y <= visited.y1) ? 1 : 0;
+    part = crosses_visited(y) ? 1 : 0;
     slot = slot_end = 0;
   };
 #endif
@@ -543,8 +615,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
         // A warp fetches the next rows' segments together (rows of a box are often a cell or
         // two wide, too few candidates for 32 lanes one segment at a time).
         if constexpr (By == Walker::warp) {
-          if (strip < 0 && slot >= slot_end && !(part == 0 && y >= visited.y0 && y <= visited.y1) &&
-              y < target.y1) {
+          if (strip < 0 && slot >= slot_end && !(part == 0 && crosses_visited(y)) && y < last_line()) {
             batched = true;
             scan_rows_together();
           }
@@ -554,14 +625,13 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           if (slot >= slot_end) {
             if (Strips && strip >= 0) break;  // the strip's prefix is scanned
             if (++work > budget) break;
-            const bool in_rows = y >= visited.y0 && y <= visited.y1;
-            if (part == 0 && in_rows) {
+            if (part == 0 && crosses_visited(y)) {
               part = 1;
             } else {
               part = 0;
               ++y;
             }
-            if (y > target.y1) break;
+            if (y > last_line()) break;
             segment_of(y, part, &slot, &slot_end);
           }
           if constexpr (By == Walker::thread) {
@@ -658,7 +728,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                     min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
         }
       }
-      y = target.y0 - 1;
+      begin_target();
       part = 1;
       slot = slot_end = 0;
       big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
@@ -731,7 +801,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
         const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
         if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
       }
-      y = target.y0 - 1;
+      begin_target();
       big_scan = box_cells(target) > kBigScanCells;
     }
     if (work > budget) {
@@ -757,7 +827,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       best_p = load_site(g.points, ip);
       best_d2 = dist2(ps, best_p);
     }
-    slot = (Strips && strip >= 0) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
+    slot = ((Strips && strip >= 0) || (g.tail.ids && across)) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
   }
   w.predicates = predicates;

@@ -253,6 +253,12 @@ int main(int argc, char** argv) {
   if (!small) grow_case(*backend, "uniform grid: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
   unsetenv("EXPANSE_CUDA_GRID");
 
+  // Quantile cells' tall boxes in the outer columns scanned across (TailColumns, the default,
+  // above) and a row at a time, as before.
+  setenv("EXPANSE_CUDA_TAIL_COLUMNS", "0", 1);
+  grow_case(*backend, "no tail columns: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+  unsetenv("EXPANSE_CUDA_TAIL_COLUMNS");
+
   // Both searches (box scans are the default) and every register cap give valid stars.
   setenv("EXPANSE_CUDA_SEARCH", "rings", 1);
   grow_case(*backend, "ring search: uniform", generate_points("uniform", 300, 1), per_site, true, false);

@@ -309,6 +309,10 @@ TEST_CASE("CUDA star walk on the CPU: boundary strips make the box scans' stars 
   const Hull hull = convex_hull(sites);
   for (const bool quantile : {true, false}) {
     cuda::HostStarLayout boxes(sites, hull, 2.0, quantile), strips(sites, hull, 2.0, quantile);
+    // The kernels take strips on equal cells only; on quantile cells the outer columns' tall
+    // boxes are scanned across (TailColumns, tested below), which the strips are compared without.
+    boxes.use_tail_columns(false);
+    strips.use_tail_columns(false);
     strips.use_strips(true);
     const cuda::StarWorkTotals by_boxes = boxes.walk_all(0, 2), by_strips = strips.walk_all(0, 2);
     INFO((quantile ? "quantile" : "uniform") << " grid: max work " << by_boxes.max_work << " -> " << by_strips.max_work
@@ -329,6 +333,38 @@ TEST_CASE("CUDA star walk on the CPU: boundary strips make the box scans' stars 
     // The costliest site is a hull-hugging one; on equal cells its long edges along the hull also
     // start with the cells along them (kLongEdgeCells).
     CHECK((quantile ? 1 : 2) * by_strips.max_work < by_boxes.max_work);
+  }
+}
+
+TEST_CASE("CUDA star walk on the CPU: tall boxes in the outer columns scanned across make the same stars for less work",
+          "[cuda][star]") {
+  // Kuzmin's x-tails lie in wide columns that its dense centre cuts into thin rows: their boxes
+  // run many rows tall and a few columns wide, a row segment a row unless scanned a column at a
+  // time (TailColumns). Its y-tails' boxes are wide and short and take no copy.
+  const std::vector<Point2> points = test::points::kuzmin(200000, 17);
+  const SiteSet sites = prepare_sites(points);
+  const Hull hull = convex_hull(sites);
+  cuda::HostStarLayout rows(sites, hull, 2.0, true), across(sites, hull, 2.0, true);
+  rows.use_tail_columns(false);
+  for (const bool phases : {false, true}) {
+    const cuda::StarWorkTotals by_rows = rows.walk_all(0, 2, cuda::StarSearch::boxes, phases);
+    const cuda::StarWorkTotals by_columns = across.walk_all(0, 2, cuda::StarSearch::boxes, phases);
+    INFO((phases ? "two phases" : "one phase") << ": work " << by_rows.work << " -> " << by_columns.work
+                                               << ", lock-step " << by_rows.lockstep_work_32 << " -> "
+                                               << by_columns.lockstep_work_32);
+    REQUIRE(by_rows.deferred == by_columns.deferred);
+    int differing = 0;
+    for (std::size_t i = 0; i < rows.site_count(); ++i) {
+      const std::uint32_t info = rows.star_info_of(i);
+      bool same = across.star_info_of(i) == info;
+      for (int t = 0; same && t < cuda::star_degree(info); ++t)
+        same = cuda::star_at(rows.star_rows(), info, static_cast<int>(i), t) ==
+               cuda::star_at(across.star_rows(), info, static_cast<int>(i), t);
+      differing += !same;
+    }
+    CHECK(differing == 0);
+    CHECK(by_columns.work < by_rows.work);
+    CHECK(by_columns.lockstep_work_32 < by_rows.lockstep_work_32);
   }
 }
 
