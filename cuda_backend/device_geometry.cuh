@@ -289,6 +289,9 @@ EXPANSE_DEVICE_FORCE GridView of_kind(const GridView& g) {
     v.tail.ids = nullptr;
   }
 #if defined(__CUDA_ARCH__)
+  // TailColumns serve grids with guides (gx >= 16): the kernels compile the scans across into
+  // their guided walks alone, whose registers they cost.
+  if constexpr (Kind != GridKind::guided) v.tail.ids = nullptr;
   if constexpr (Kind == GridKind::guided)
     __builtin_assume(v.xb != nullptr && v.yb != nullptr && v.x_guide.first != nullptr && v.y_guide.first != nullptr);
 #endif

@@ -396,8 +396,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     if constexpr (Strips) {
       if (strip >= 0) return load_readonly(g.strips.ids + static_cast<std::size_t>(strip) * g.strips.capacity + k);
     }
-    if (g.tail.ids && across) return load_readonly(g.tail.ids + k);
     return static_cast<int>(k);
+  };
+  // Whether the scan is across (a strip's scan is not, whatever the box before it).
+  auto scanning_across = [&]() { return g.tail.ids && across && !(Strips && strip >= 0); };
+  // The candidate at `slot` in any scan: TailColumns' k-th site in a scan across.
+  auto slot_site = [&](std::uint32_t k) {
+    if (scanning_across()) return load_readonly(g.tail.ids + k);
+    return site_at(k);
   };
   // Whether line l of the target crosses the visited box (then it has two parts), and the
   // target's last line.
@@ -579,7 +585,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const std::uint32_t owner_a0 = __shfl_sync(0xffffffffu, a0, owner), owner_b0 = __shfl_sync(0xffffffffu, b0, owner);
       const unsigned k = j - (owner_end - owner_len);
       const std::uint32_t candidate_slot = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
-      const std::uint32_t candidate = j < total ? static_cast<std::uint32_t>(site_at(candidate_slot)) : candidate_slot;
+      const std::uint32_t candidate = j < total ? static_cast<std::uint32_t>(slot_site(candidate_slot)) : candidate_slot;
       const LaneTest t = test_lanes(j < total, candidate, total - base);
       if (t.first < 0) continue;
       // The thread would stand at the flagged candidate's row and part, having set up every
@@ -635,15 +641,22 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             segment_of(y, part, &slot, &slot_end);
           }
           if constexpr (By == Walker::thread) {
-            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-              ++work;
-              double2 p;
-              double d2;
-              const int ip = site_at(slot);
-              const int verdict = judge(ip, p, d2);
-              if (verdict != 0 && take(ip, verdict, p, d2)) break;
-              if (work > budget) break;
-            }
+            auto test_candidates = [&](auto site_of) {
+              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+                ++work;
+                double2 p;
+                double d2;
+                const int ip = site_of(slot);
+                const int verdict = judge(ip, p, d2);
+                if (verdict != 0 && take(ip, verdict, p, d2)) break;
+                if (work > budget) break;
+              }
+            };
+            // A loop of its own for scans across, so that the rows' loop stays as it was.
+            if (scanning_across())
+              test_candidates([&](std::uint32_t k) { return load_readonly(g.tail.ids + k); });
+            else
+              test_candidates(site_at);
           }
   #if defined(__CUDACC__)
           if constexpr (By == Walker::warp) {
@@ -651,7 +664,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
               const std::uint32_t mine = slot + lane;
               const bool valid = mine < slot_end;
-              const LaneTest t = test_lanes(valid, valid ? static_cast<std::uint32_t>(site_at(mine)) : mine,
+              const LaneTest t = test_lanes(valid, valid ? static_cast<std::uint32_t>(slot_site(mine)) : mine,
                                             slot_end - slot);
               work += t.seen;
               if (t.first < 0) {
@@ -660,7 +673,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                 continue;
               }
               slot += static_cast<std::uint32_t>(t.first);
-              const int ip = site_at(slot);
+              const int ip = slot_site(slot);
               if (take(ip, t.verdict, t.p, t.d2)) break;
               ++slot;
               if (work > budget) break;
@@ -827,7 +840,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       best_p = load_site(g.points, ip);
       best_d2 = dist2(ps, best_p);
     }
-    slot = ((Strips && strip >= 0) || (g.tail.ids && across)) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
+    slot = ((Strips && strip >= 0) || scanning_across()) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
   }
   w.predicates = predicates;
