@@ -88,10 +88,13 @@ __global__ void __launch_bounds__(kEvennessBins * kEvennessBins) evenness_max_ke
 
 /// bounds[j] = the (j / cells)-quantile of the sorted sample, j = 1 .. cells - 1, its tails weighed
 /// where quantile_tails finds them heavy.
-__global__ void quantile_kernel(const double* sorted, int samples, int cells, TailWeighing weighing, double* bounds) {
+/// With `heavy`, also whether the axis' tails are heavy (weighed: quantile_tails), as 1 or 0.
+__global__ void quantile_kernel(const double* sorted, int samples, int cells, TailWeighing weighing, double* bounds,
+                                unsigned int* heavy = nullptr) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j > cells) return;
   const QuantileTails tails = quantile_tails(sorted, samples, weighing);
+  if (heavy && j == 0) *heavy = tails.tail > 0 ? 1u : 0u;
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
@@ -191,16 +194,21 @@ class CellBuckets {
   std::size_t cells() const { return cells_; }
   /// Whether the last build chose uniform cells.
   bool uniform() const { return uniform_; }
+  /// Whether the last build's quantile cells have guides and heavy tails on the x-axis (kuzmin's,
+  /// not a gaussian's: quantile_tails), which TailColumns serve.
+  bool heavy_x_tails() const { return heavy_x_; }
   int key_bits() const { return key_bits_; }
 
   /// Buckets points[0, n) (n <= capacity): sets g's boundaries (g.xb, g.yb, quantile kind) and
   /// g.cell_start, g.points (the sorted points); rank, when given, gets each point's position.
   /// `word`: pinned host memory for the evenness test's one number; `guide_keys`: for the two axes'
-  /// guide keys (the host waits for both).
+  /// guide keys (the host waits for both); `heavy_word`: for whether the x-axis' tails are heavy
+  /// (heavy_x_tails, read with the guide keys).
   void build(GridView& g, const double2* points, int n, int* rank, bool unordered_runs, unsigned int* word,
-             QuantileGuideKey* guide_keys,
+             QuantileGuideKey* guide_keys, unsigned int* heavy_word,
              cudaStream_t stream) {
     uniform_ = !quantile_;
+    heavy_x_ = false;
     const int samples = quantile_sample_count(static_cast<std::size_t>(n));
     if (quantile_) {
       sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
@@ -230,7 +238,7 @@ class CellBuckets {
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
       const TailWeighing weighing = tail_weighing();
       quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, weighing,
-                                                                             xb_.get());
+                                                                             xb_.get(), heavy_word);
       quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, weighing,
                                                                              yb_.get());
       EXPANSE_CUDA(cudaGetLastError());
@@ -253,6 +261,7 @@ class CellBuckets {
         EXPANSE_CUDA(cudaGetLastError());
         EXPANSE_CUDA(cudaStreamSynchronize(stream));
         g.x_guide = {guide_keys[0].logarithmic ? x_guide_.get() : x_even_.get(), guide_keys[0]};
+        heavy_x_ = *heavy_word != 0u;
         g.y_guide = {guide_keys[1].logarithmic ? y_guide_.get() : y_even_.get(), guide_keys[1]};
       }
     }
@@ -321,6 +330,7 @@ class CellBuckets {
   std::size_t cells_;
   bool quantile_;   ///< quantile cells possible (not EXPANSE_CUDA_GRID=uniform, not tiny)
   bool uniform_ = false;  ///< the last build's choice
+  bool heavy_x_ = false;  ///< the last build's quantile cells: guides, and heavy x-tails
   int samples_;
   int key_bits_ = 1;
 

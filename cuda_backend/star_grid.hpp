@@ -195,11 +195,15 @@ inline bool evenly_spread(unsigned max_count, int samples) {
 /// comparisons); =share,factor: tails weighed so (grid/quantile_tails.hpp).
 inline TailWeighing tail_weighing() { return parse_tail_weighing(std::getenv("EXPANSE_CUDA_TAILS")); }
 
-/// Whether quantile cells copy their outer columns (TailColumns in device_geometry.cuh);
-/// EXPANSE_CUDA_TAIL_COLUMNS=0 turns the copy off (for comparisons).
-inline bool tail_columns_wanted() {
+/// Whether quantile cells copy their outer columns (TailColumns in device_geometry.cuh): where
+/// the x-axis' tails are heavy (quantile_tails weighs them). A gaussian's are not, and on the
+/// H100 its scans across cost it 1.3 ms at 4096^2 (session 31 call 3), though counted on the CPU
+/// they saved it 2% of its lock-step work. EXPANSE_CUDA_TAIL_COLUMNS=0 turns the copy off, =1 on
+/// for any quantile cells (both for comparisons).
+inline bool tail_columns_wanted(bool heavy_x_tails) {
   const char* env = std::getenv("EXPANSE_CUDA_TAIL_COLUMNS");
-  return !(env && std::strcmp(env, "0") == 0);
+  if (env && std::strcmp(env, "0") == 0) return false;
+  return heavy_x_tails || (env && std::strcmp(env, "1") == 0);
 }
 
 /// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.

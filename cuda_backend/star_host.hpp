@@ -62,6 +62,7 @@ class HostStarLayout {
     grid_ = make_grid_view(shape, sites.bounds);
     exact_lattice_ = exact_lattice_arithmetic(sites);
     apply_first_box(grid_, !quantile, sites);
+    bool heavy_x_tails = false;
     if (quantile) {
       const int samples = quantile_sample_count(n);
       std::vector<double> xs(samples), ys(samples);
@@ -77,6 +78,7 @@ class HostStarLayout {
       const TailWeighing weighing = tail_weighing();
       const QuantileTails x_tails = quantile_tails(xs.data(), samples, weighing);
       const QuantileTails y_tails = quantile_tails(ys.data(), samples, weighing);
+      heavy_x_tails = x_tails.tail > 0;
       for (int j = 1; j < shape.gx; ++j) xb_[j] = quantile_boundary(xs.data(), samples, shape.gx, j, x_tails);
       for (int j = 1; j < shape.gy; ++j) yb_[j] = quantile_boundary(ys.data(), samples, shape.gy, j, y_tails);
       grid_.xb = xb_.data();
@@ -107,10 +109,11 @@ class HostStarLayout {
     for (std::size_t t = 0; t < h; ++t) pred_[rank[hull.sites[t]]] = rank[hull.sites[t == 0 ? h - 1 : t - 1]];
     grid_.points = points_.data();
     grid_.cell_start = cell_start_.data();
-    if (quantile && tail_columns_wanted()) use_tail_columns(true);
+    if (quantile && tail_columns_wanted(heavy_x_tails)) use_tail_columns(true);
   }
 
-  /// With `on` (the default on quantile cells, as the kernels walk them), the walks scan tall
+  /// With `on` (the default on quantile cells whose x-tails are heavy, as the kernels walk them; any
+  /// quantile cells with EXPANSE_CUDA_TAIL_COLUMNS=1), the walks scan tall
   /// boxes in the grid's outer columns a column at a time (TailColumns), copied here as
   /// build_tail_columns (star_kernels.cu) copies them: the outer columns' cells column after
   /// column, each cell's sites in the grid's order.

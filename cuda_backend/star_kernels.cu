@@ -67,6 +67,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
       w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::uniform>(g, pred, i, row, budget);
     else if (!ExactLattice && kind == GridKind::guided)
       w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::guided>(g, pred, i, row, budget);
+    else if (!ExactLattice && kind == GridKind::guided_tails)
+      w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips, GridKind::guided_tails>(g, pred, i, row,
+                                                                                                   budget);
     else
       w = walk_star_boxes<Walker::warp, ExactLattice, false, false, Strips>(g, pred, i, row, budget);
   } else {
@@ -76,6 +79,9 @@ __device__ __forceinline__ void walk_and_record(const GridView& g, const int* pr
     else if (!ExactLattice && kind == GridKind::guided)
       w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips, GridKind::guided>(g, pred, i, row, budget,
                                                                                                inbox);
+    else if (!ExactLattice && kind == GridKind::guided_tails)
+      w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips, GridKind::guided_tails>(g, pred, i, row,
+                                                                                                     budget, inbox);
     else
       w = walk_star_by<Search, ExactLattice, FirstPass, ReadsInbox, Strips>(g, pred, i, row, budget, inbox);
   }
@@ -788,11 +794,12 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   static_assert(2 * sizeof(QuantileGuideKey) == 16 * sizeof(unsigned int));
   buckets.build(g, d_points, static_cast<int>(n), d_rank.get(), on_device && on_device->unordered_runs,
                 &ctx.pinned_words[15],
-                reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), stream);
+                reinterpret_cast<QuantileGuideKey*>(&ctx.pinned_words[16]), &ctx.pinned_words[14], stream);
   apply_first_box(g, buckets.uniform(), input.sites);
   // Quantile cells' outer columns copied column after column, for the searches whose boxes run
-  // tall in them (TailColumns; EXPANSE_CUDA_TAIL_COLUMNS=0: none, for comparisons).
-  if (!buckets.uniform() && !rings && tail_columns_wanted())
+  // tall in them, where the x-axis has heavy tails (TailColumns; EXPANSE_CUDA_TAIL_COLUMNS=0:
+  // none, =1: on any quantile cells with guides, both for comparisons).
+  if (!buckets.uniform() && !rings && tail_columns_wanted(buckets.heavy_x_tails()) && g.x_guide.first && g.y_guide.first)
     build_tail_columns(g, buckets.keys.get(), buckets.ids.get(), n, stream);
   // Strips for grids of equal cells over inputs that are no small lattice: a uniform square's
   // hull-hugging sites. Quantile cells' outer rows and columns hold a clustered input's sparse

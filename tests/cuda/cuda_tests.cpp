@@ -253,10 +253,14 @@ int main(int argc, char** argv) {
   if (!small) grow_case(*backend, "uniform grid: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
   unsetenv("EXPANSE_CUDA_GRID");
 
-  // Quantile cells' tall boxes in the outer columns scanned across (TailColumns, the default,
-  // above) and a row at a time, as before.
+  // Quantile cells' tall boxes in the outer columns scanned across (TailColumns: by default
+  // where the x-tails are heavy, as kuzmin's above) and a row at a time, as before; and across
+  // on a gaussian's cells, which take no copy by default.
   setenv("EXPANSE_CUDA_TAIL_COLUMNS", "0", 1);
   grow_case(*backend, "no tail columns: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
+  setenv("EXPANSE_CUDA_TAIL_COLUMNS", "1", 1);
+  grow_case(*backend, "tail columns: clusters", generate_points("gaussian", 1500, 7), per_site, true, false);
+  if (!small) grow_case(*backend, "tail columns: clusters 200000", generate_points("gaussian", 200000, 4), per_site, false, false);
   unsetenv("EXPANSE_CUDA_TAIL_COLUMNS");
 
   // Both searches (box scans are the default) and every register cap give valid stars.
