@@ -191,6 +191,13 @@ template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass 
 EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, int i, int* row, unsigned budget,
                                         const StarInbox& inbox = {}) {
   const GridView g = of_kind<Cells>(grid);
+  // Whether this walk compiles the scans across (TailColumns): the kernels' guided_tails walks
+  // alone, so that the others' code stays as it was (the host's walks take any grid).
+#if defined(__CUDA_ARCH__)
+  constexpr bool kAcross = Cells == GridKind::guided_tails;
+#else
+  constexpr bool kAcross = true;
+#endif
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
@@ -357,7 +364,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     return static_cast<int>(k);
   };
   // Whether the scan is across (a strip's scan is not, whatever the box before it).
-  auto scanning_across = [&]() { return g.tail.ids && across && !(Strips && strip >= 0); };
+  auto scanning_across = [&]() { return kAcross && g.tail.ids && across && !(Strips && strip >= 0); };
   // The candidate at `slot` in any scan: TailColumns' k-th site in a scan across.
   auto slot_site = [&](std::uint32_t k) {
     if (scanning_across()) return load_readonly(g.tail.ids + k);
@@ -366,20 +373,20 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // Whether line l of the target crosses the visited box (then it has two parts), and the
   // target's last line.
   auto crosses_visited = [&](int l) {
-    return (g.tail.ids && across) ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
+    return (kAcross && g.tail.ids && across) ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
   };
-  auto last_line = [&]() { return (g.tail.ids && across) ? target.x1 : target.y1; };
+  auto last_line = [&]() { return (kAcross && g.tail.ids && across) ? target.x1 : target.y1; };
   // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
   auto begin_target = [&]() {
     const int w = g.tail.width;
-    across = g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) && target.y1 - target.y0 > target.x1 - target.x0;
+    across = kAcross && g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) && target.y1 - target.y0 > target.x1 - target.x0;
     y = (across ? target.x0 : target.y0) - 1;
   };
 
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
   // box minus the visited one, cut to `bounds`: sites [*first, *last).
   auto segment_of = [&](int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
-    if (g.tail.ids && across) {
+    if (kAcross && g.tail.ids && across) {
       // Column row_y of TailColumns, not cut to `bounds`: a box taller than wide in these wide
       // columns is a region narrower than a column, and the disc's chord in the column nearest
       // its centre is the region's whole height (cut, kuzmin 4096^2 counted on the CPU the same
@@ -546,7 +553,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const std::uint32_t owner_a0 = __shfl_sync(0xffffffffu, a0, owner), owner_b0 = __shfl_sync(0xffffffffu, b0, owner);
       const unsigned k = j - (owner_end - owner_len);
       const std::uint32_t candidate_slot = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
-      const std::uint32_t candidate = j < total ? static_cast<std::uint32_t>(slot_site(candidate_slot)) : candidate_slot;
+      std::uint32_t candidate = candidate_slot;
+      if constexpr (kAcross) candidate = j < total ? static_cast<std::uint32_t>(slot_site(candidate_slot)) : candidate_slot;
       const LaneTest t = test_lanes(j < total, candidate, total - base);
       if (t.first < 0) continue;
       // The thread would stand at the flagged candidate's row and part, having set up every
@@ -563,7 +571,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       part = at_part;
       const int ip = static_cast<int>(__shfl_sync(0xffffffffu, candidate, first));
       slot_end = at_part == 0 ? at_a1 : at_b1;
-      slot = __shfl_sync(0xffffffffu, candidate_slot, first);
+      if constexpr (kAcross)
+        slot = __shfl_sync(0xffffffffu, candidate_slot, first);
+      else
+        slot = static_cast<std::uint32_t>(ip);
       if (!take(ip, t.verdict, t.p, t.d2)) ++slot;
       return;
     }
