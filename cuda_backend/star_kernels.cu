@@ -233,7 +233,8 @@ bool build_tail_columns(GridView& g, std::uint32_t* key_words, int* id_words, st
   std::uint32_t* const counts = key_words;
   std::uint32_t* const start = key_words + entries;
   auto* const temp = reinterpret_cast<unsigned char*>(
-      (reinterpret_cast<std::uintptr_t>(key_words + 2 * static_cast<std::size_t>(entries)) + 255) & ~std::uintptr_t{255});
+      (reinterpret_cast<std::uintptr_t>(key_words + 2 * static_cast<std::size_t>(entries)) + 255) &
+      ~std::uintptr_t{255});
   constexpr int threads = 256;
   const int blocks = (entries + threads - 1) / threads;
   tail_counts_kernel<<<blocks, threads, 0, stream>>>(g, width, counts);
@@ -799,7 +800,8 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // Quantile cells' outer columns copied column after column, for the searches whose boxes run
   // tall in them, where the x-axis has heavy tails (TailColumns; EXPANSE_CUDA_TAIL_COLUMNS=0:
   // none, =1: on any quantile cells with guides, both for comparisons).
-  if (!buckets.uniform() && !rings && tail_columns_wanted(buckets.heavy_x_tails()) && g.x_guide.first && g.y_guide.first)
+  if (!buckets.uniform() && !rings && tail_columns_wanted(buckets.heavy_x_tails()) && g.x_guide.first &&
+      g.y_guide.first)
     build_tail_columns(g, buckets.keys.get(), buckets.ids.get(), n, stream);
   // Strips for grids of equal cells over inputs that are no small lattice: a uniform square's
   // hull-hugging sites. Quantile cells' outer rows and columns hold a clustered input's sparse

@@ -379,7 +379,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
   auto begin_target = [&]() {
     const int w = g.tail.width;
-    across = kAcross && g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) && target.y1 - target.y0 > target.x1 - target.x0;
+    across = kAcross && g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) &&
+             target.y1 - target.y0 > target.x1 - target.x0;
     y = (across ? target.x0 : target.y0) - 1;
   };
 
@@ -554,7 +555,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const unsigned k = j - (owner_end - owner_len);
       const std::uint32_t candidate_slot = k < owner_len_a ? owner_a0 + k : owner_b0 + (k - owner_len_a);
       std::uint32_t candidate = candidate_slot;
-      if constexpr (kAcross) candidate = j < total ? static_cast<std::uint32_t>(slot_site(candidate_slot)) : candidate_slot;
+      if constexpr (kAcross)
+        candidate = j < total ? static_cast<std::uint32_t>(slot_site(candidate_slot)) : candidate_slot;
       const LaneTest t = test_lanes(j < total, candidate, total - base);
       if (t.first < 0) continue;
       // The thread would stand at the flagged candidate's row and part, having set up every

@@ -260,7 +260,9 @@ int main(int argc, char** argv) {
   grow_case(*backend, "no tail columns: kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
   setenv("EXPANSE_CUDA_TAIL_COLUMNS", "1", 1);
   grow_case(*backend, "tail columns: clusters", generate_points("gaussian", 1500, 7), per_site, true, false);
-  if (!small) grow_case(*backend, "tail columns: clusters 200000", generate_points("gaussian", 200000, 4), per_site, false, false);
+  if (!small)
+    grow_case(*backend, "tail columns: clusters 200000", generate_points("gaussian", 200000, 4), per_site, false,
+              false);
   unsetenv("EXPANSE_CUDA_TAIL_COLUMNS");
 
   // Both searches (box scans are the default) and every register cap give valid stars.

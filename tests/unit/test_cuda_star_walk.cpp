@@ -299,6 +299,24 @@ TEST_CASE("CUDA star walk on the CPU: uniform sites near the hull neither overfl
   }
 }
 
+namespace {
+
+/// The sites whose stars two walks of the same layout's sites left different (info word or row).
+int differing_stars(const cuda::HostStarLayout& a, const cuda::HostStarLayout& b) {
+  int differing = 0;
+  for (std::size_t i = 0; i < a.site_count(); ++i) {
+    const std::uint32_t info = a.star_info_of(i);
+    bool same = b.star_info_of(i) == info;
+    for (int t = 0; same && t < cuda::star_degree(info); ++t)
+      same = cuda::star_at(a.star_rows(), info, static_cast<int>(i), t) ==
+             cuda::star_at(b.star_rows(), info, static_cast<int>(i), t);
+    differing += !same;
+  }
+  return differing;
+}
+
+}  // namespace
+
 TEST_CASE("CUDA star walk on the CPU: boundary strips make the box scans' stars for far less hull-hugging work",
           "[cuda][star]") {
   // A uniform square's hull-hugging sites: nearly collinear runs along a side leave circles whose
@@ -319,16 +337,7 @@ TEST_CASE("CUDA star walk on the CPU: boundary strips make the box scans' stars 
                                              << ", total " << by_boxes.work << " -> " << by_strips.work);
     REQUIRE(by_boxes.deferred == 0);
     CHECK(by_strips.deferred == 0);
-    int differing = 0;
-    for (std::size_t i = 0; i < boxes.site_count(); ++i) {
-      const std::uint32_t info = boxes.star_info_of(i);
-      bool same = strips.star_info_of(i) == info;
-      for (int t = 0; same && t < cuda::star_degree(info); ++t)
-        same = cuda::star_at(boxes.star_rows(), info, static_cast<int>(i), t) ==
-               cuda::star_at(strips.star_rows(), info, static_cast<int>(i), t);
-      differing += !same;
-    }
-    CHECK(differing == 0);
+    CHECK(differing_stars(boxes, strips) == 0);
     CHECK(by_strips.work < by_boxes.work);
     // The costliest site is a hull-hugging one; on equal cells its long edges along the hull also
     // start with the cells along them (kLongEdgeCells).
@@ -353,16 +362,7 @@ TEST_CASE("CUDA star walk on the CPU: tall boxes in the outer columns scanned ac
                                                << ", lock-step " << by_rows.lockstep_work_32 << " -> "
                                                << by_columns.lockstep_work_32);
     REQUIRE(by_rows.deferred == by_columns.deferred);
-    int differing = 0;
-    for (std::size_t i = 0; i < rows.site_count(); ++i) {
-      const std::uint32_t info = rows.star_info_of(i);
-      bool same = across.star_info_of(i) == info;
-      for (int t = 0; same && t < cuda::star_degree(info); ++t)
-        same = cuda::star_at(rows.star_rows(), info, static_cast<int>(i), t) ==
-               cuda::star_at(across.star_rows(), info, static_cast<int>(i), t);
-      differing += !same;
-    }
-    CHECK(differing == 0);
+    CHECK(differing_stars(rows, across) == 0);
     CHECK(by_columns.work < by_rows.work);
     CHECK(by_columns.lockstep_work_32 < by_rows.lockstep_work_32);
   }
