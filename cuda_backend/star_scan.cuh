@@ -377,11 +377,16 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   };
   auto last_line = [&]() { return (kAcross && g.tail.ids && across) ? target.x1 : target.y1; };
   // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
+  // (`across` is never read without kAcross, so that other walks keep no trace of it.)
   auto begin_target = [&]() {
-    const int w = g.tail.width;
-    across = kAcross && g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) &&
-             target.y1 - target.y0 > target.x1 - target.x0;
-    y = (across ? target.x0 : target.y0) - 1;
+    if constexpr (kAcross) {
+      const int w = g.tail.width;
+      across = g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) &&
+               target.y1 - target.y0 > target.x1 - target.x0;
+      y = (across ? target.x0 : target.y0) - 1;
+    } else {
+      y = target.y0 - 1;
+    }
   };
 
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
