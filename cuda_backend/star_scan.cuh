@@ -610,7 +610,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           if (slot >= slot_end) {
             if (Strips && strip >= 0) break;  // the strip's prefix is scanned
             if (++work > budget) break;
-            if (part == 0 && crosses_visited(y)) {
+            const bool in_rows = crosses_visited(y);  // before `part`, as the code before the scans across
+            if (part == 0 && in_rows) {
               part = 1;
             } else {
               part = 0;
