@@ -112,11 +112,11 @@ class HostStarLayout {
     if (quantile && tail_columns_wanted(heavy_x_tails)) use_tail_columns(true);
   }
 
-  /// With `on` (the default on quantile cells whose x-tails are heavy, as the kernels walk them; any
-  /// quantile cells with EXPANSE_CUDA_TAIL_COLUMNS=1), the walks scan tall
-  /// boxes in the grid's outer columns a column at a time (TailColumns), copied here as
-  /// build_tail_columns (star_kernels.cu) copies them: the outer columns' cells column after
-  /// column, each cell's sites in the grid's order.
+  /// With `on`, the walks scan tall boxes in the grid's outer columns a column at a time
+  /// (TailColumns), copied here as build_tail_columns (star_kernels.cu) copies them: the outer
+  /// columns' cells column after column, each cell's sites in the grid's order. On by default
+  /// where the kernels take them: quantile cells whose x-tails are heavy (any quantile cells with
+  /// EXPANSE_CUDA_TAIL_COLUMNS=1).
   void use_tail_columns(bool on) {
     grid_.tail = {};
     const int width = tail_columns_width(grid_.gx), gx = grid_.gx, gy = grid_.gy;
