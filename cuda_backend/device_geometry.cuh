@@ -188,8 +188,9 @@ struct TailColumns {
 /// a heavy tail five times its share of columns, so about its outer 2.5% of sites), none under
 /// 16 columns.
 EXPANSE_HOST_DEVICE int tail_columns_width(int gx) { return gx >= 16 ? gx / 8 : 0; }
-/// Grid column x's column in the copy (x within `width` of either side).
+/// Grid column x's column in the copy (x within `width` of either side), and the other way round.
 EXPANSE_HOST_DEVICE int tail_column_index(int x, int gx, int width) { return x < width ? x : x - (gx - 2 * width); }
+EXPANSE_HOST_DEVICE int tail_column_of_grid(int j, int gx, int width) { return j < width ? j : j + (gx - 2 * width); }
 
 /// A grid of buckets over a box: sites sorted by cell, cell_start[c]..cell_start[c+1] the sites
 /// of cell c (indices into the sorted arrays). Two kinds, one interface:

@@ -124,7 +124,7 @@ class HostStarLayout {
     tail_start_.assign(static_cast<std::size_t>(2 * width) * gy + 1, 0);
     tail_ids_.clear();
     for (int j = 0; j < 2 * width; ++j) {
-      const int x = j < width ? j : gx - 2 * width + j;
+      const int x = tail_column_of_grid(j, gx, width);
       for (int r = 0; r < gy; ++r) {
         tail_start_[static_cast<std::size_t>(j) * gy + r] = static_cast<std::uint32_t>(tail_ids_.size());
         const std::size_t c = static_cast<std::size_t>(r) * gx + x;

@@ -204,7 +204,7 @@ __global__ void tail_counts_kernel(GridView g, int width, std::uint32_t* counts)
     return;
   }
   const int j = e / g.gy, r = e - j * g.gy;
-  const std::size_t c = static_cast<std::size_t>(r) * g.gx + (j < width ? j : g.gx - 2 * width + j);
+  const std::size_t c = static_cast<std::size_t>(r) * g.gx + tail_column_of_grid(j, g.gx, width);
   counts[e] = g.cell_start[c + 1] - g.cell_start[c];
 }
 
@@ -213,23 +213,24 @@ __global__ void tail_ids_kernel(GridView g, int width, const std::uint32_t* star
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= 2 * width * g.gy) return;
   const int j = e / g.gy, r = e - j * g.gy;
-  const std::size_t c = static_cast<std::size_t>(r) * g.gx + (j < width ? j : g.gx - 2 * width + j);
+  const std::size_t c = static_cast<std::size_t>(r) * g.gx + tail_column_of_grid(j, g.gx, width);
   std::uint32_t at = start[e];
   for (std::uint32_t q = g.cell_start[c]; q < g.cell_start[c + 1]; ++q, ++at) ids[at] = static_cast<int>(q);
 }
 
 /// Builds g.tail (TailColumns) on `stream` for a grid of quantile cells, in memory the bucketing
 /// no longer needs (`key_words`: the counts, the starts and the scan's storage; `id_words`: the
-/// sites), as the strips do on equal cells. False where the grid is too small or the words too few.
-bool build_tail_columns(GridView& g, std::uint32_t* key_words, int* id_words, std::size_t words,
+/// sites), as the strips do on equal cells. Leaves g.tail empty where the grid is too small or
+/// the words too few.
+void build_tail_columns(GridView& g, std::uint32_t* key_words, int* id_words, std::size_t words,
                         cudaStream_t stream) {
   const int width = tail_columns_width(g.gx);
-  if (width == 0) return false;
+  if (width == 0) return;
   const int entries = 2 * width * g.gy + 1;
   std::size_t temp_bytes = 0;
   EXPANSE_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, temp_bytes, key_words, key_words, entries, stream));
   const std::size_t temp_words = (temp_bytes + 3) / 4 + 64;  // 64 for the storage's 256-byte alignment
-  if (2 * static_cast<std::size_t>(entries) + temp_words > words) return false;
+  if (2 * static_cast<std::size_t>(entries) + temp_words > words) return;
   std::uint32_t* const counts = key_words;
   std::uint32_t* const start = key_words + entries;
   auto* const temp = reinterpret_cast<unsigned char*>(
@@ -243,7 +244,6 @@ bool build_tail_columns(GridView& g, std::uint32_t* key_words, int* id_words, st
   tail_ids_kernel<<<blocks, threads, 0, stream>>>(g, width, start, id_words);
   EXPANSE_CUDA(cudaGetLastError());
   g.tail = {start, id_words, width};
-  return true;
 }
 
 /// The strips' arrays, in memory the bucketing no longer needs (its unsorted keys and ids: n

@@ -363,8 +363,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     }
     return static_cast<int>(k);
   };
-  // Whether the scan is across (a strip's scan is not, whatever the box before it).
-  auto scanning_across = [&]() { return kAcross && g.tail.ids && across && !(Strips && strip >= 0); };
+  // Whether the target's lines are TailColumns' columns, and whether the scan is across (a
+  // strip's scan is not, whatever the box before it).
+  auto in_columns = [&]() { return kAcross && g.tail.ids && across; };
+  auto scanning_across = [&]() { return in_columns() && !(Strips && strip >= 0); };
   // The candidate at `slot` in any scan: TailColumns' k-th site in a scan across.
   auto slot_site = [&](std::uint32_t k) {
     if (scanning_across()) return load_readonly(g.tail.ids + k);
@@ -373,9 +375,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // Whether line l of the target crosses the visited box (then it has two parts), and the
   // target's last line.
   auto crosses_visited = [&](int l) {
-    return (kAcross && g.tail.ids && across) ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
+    return in_columns() ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
   };
-  auto last_line = [&]() { return (kAcross && g.tail.ids && across) ? target.x1 : target.y1; };
+  auto last_line = [&]() { return in_columns() ? target.x1 : target.y1; };
   // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
   // (`across` is never read without kAcross, so that other walks keep no trace of it.)
   auto begin_target = [&]() {
@@ -392,7 +394,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
   // box minus the visited one, cut to `bounds`: sites [*first, *last).
   auto segment_of = [&](int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
-    if (kAcross && g.tail.ids && across) {
+    if (in_columns()) {
       // Column row_y of TailColumns, not cut to `bounds`: a box taller than wide in these wide
       // columns is a region narrower than a column, and the disc's chord in the column nearest
       // its centre is the region's whole height (cut, kuzmin 4096^2 counted on the CPU the same
