@@ -105,9 +105,9 @@ int apex_incircle_filter(ApexLift c, dvec3 p) {
   precise double ax = mag(p.x), ay = mag(p.y);
   precise double det = (p.x * c.vx + p.y * c.vy) - p.z * c.k;
   precise double permanent = (ax * c.vx_perm + ay * c.vy_perm) + p.z * c.k_perm;
-  precise double losses_scale = (ax + ay) + ((p.z + c.k_perm) + 1.0lf);
   precise double bound = INCIRCLE_FILTER_BOUND * permanent;
-  bool trusted = losses_scale * 2.004168360008973e-292lf <= permanent;  // 2^-969
+  // Underflow losses under 21 * 2^-969 for |coordinates| < 1 (apex_filter.hpp).
+  bool trusted = permanent >= 6.413338752028713e-291lf;  // 2^-964
   return trusted ? sign_beyond(det, bound) : UNCERTAIN;
 }
 

@@ -98,9 +98,12 @@ EXPANSE_HD inline FilterSigns apex_incircle_signs(const ApexLift& c, const ApexP
   const double det = apex_incircle_value(c, p);
   const double permanent = add(add(mul(ax, c.vx_perm), mul(ay, c.vy_perm)), mul(p.d2, c.k_perm));
   // Underflow losses (differences below 2): |C|^2's and |B|^2's through V and then |Px|, |Py|
-  // (2^-1071 each), K's products through |P|^2, |P|^2's through K, the last three products.
-  const double losses_scale = add(add(ax, ay), add(add(p.d2, c.k_perm), 1.0));
-  const bool trusted = mul(losses_scale, 0x1p-969) <= permanent;
+  // (2^-1071 each), K's products through |P|^2, |P|^2's through K, the last three products: at
+  // most (|Px| + |Py| + |P|^2 + K_perm + 1) 2^-969, and with |coordinates| < 1 (|Px|, |Py| <= 2,
+  // |P|^2 <= 8, K_perm <= 8, each bound representable, so no rounding passes it) under
+  // 21 * 2^-969. A permanent of 2^-964 covers them: a constant, where the sum had cost the CUDA
+  // candidate loop five of its 46 floating-point operations.
+  const bool trusted = permanent >= 0x1p-964;
   const double bound = mul(incircle_filter_bound, permanent);
   return {trusted && det > bound, trusted && -det > bound};
 }
