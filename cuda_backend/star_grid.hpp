@@ -53,8 +53,11 @@ inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per
 /// lattice lost at 2.5 to 3.5 (4096^2 25.3-25.8 against 24.0-25.0 ms) and won only at 4, where
 /// its cells are 2 x 2 of its points; kuzmin, on quantile cells, lost at 3 (call 9: 77.3
 /// against 75.4-75.9 ms) and gaussian did not move. Session 8 (call 13), before the light
-/// pass, had found two a cell best.
-inline constexpr double kUniformCellsScale = 1.75;
+/// pass, had found two a cell best. Once the candidate loop got cheaper (session 32, call 6,
+/// b49d802, GPU-only, sites per cell 3.5 / 3.06 / 2.84 / 2.625, two rounds alternated at
+/// 4096^2): 4096^2 31.54-31.65 / 31.33-31.40 / 31.28-31.30 / 31.21-31.23 ms; 2048^2 9.55 /
+/// 9.51 / - / 9.48; 1024^2 3.35 / 3.27 / - / 3.31; 512^2 1.75 / 1.65 / - / 1.72. So 2.625.
+inline constexpr double kUniformCellsScale = 1.3125;
 
 /// The shape of uniform cells for these sites (kUniformCellsScale).
 inline GridShape uniform_cells_shape(const Box& box, std::size_t n, double sites_per_bucket, bool integer_coordinates) {
