@@ -13,12 +13,16 @@
 // exact sign, and what the filter cannot decide goes to the same exact procedures as before
 // (with the original points).
 //
-// Error bounds. Every leaf (a coordinate difference) is rounded once; the longest path from a
-// leaf to the result (a coordinate of C through |C|^2, By |C|^2, Vx, Px Vx and the two sums) has
-// 8 roundings, so |computed - exact| <= gamma_8 * permanent, the permanent being the same
-// expression over magnitudes (|Px| Vx_perm + |Py| Vy_perm + |P|^2 K_perm). With the permanent's
-// own rounding (degree 4, depth 7) that stays below 8.01 eps * permanent, inside Shewchuk's
-// incircle bound (10 eps), which this filter reuses; orient2d's form is Shewchuk's exactly.
+// Error bounds. Every leaf (a coordinate difference) is rounded once. Expanded into monomials of
+// the leaves, the determinant's every monomial carries at most 11 roundings: its four leaves'
+// (a squared leaf's twice) and those of the operations that combine it (Px By Cx^2: Cx^2, |C|^2,
+// By |C|^2, Vx, Px Vx and the two sums), the last of them the result's own, which keeps the
+// sign. So |computed - exact| is bounded as for a monomial of Shewchuk's incircle, which
+// carries as many (adx^2 bdx cdy: its four leaves' and seven operations'), by his bound (10 eps,
+// with its second-order terms and the filters' widening) times the permanent, the same
+// expression over magnitudes (|Px| Vx_perm + |Py| Vy_perm + |P|^2 K_perm), itself rounded no
+// deeper than his. (Session 31 and before, this said 8 roundings: one leaf a path was counted.)
+// orient2d's form is Shewchuk's exactly.
 // Underflow is handled as exact_arith.hpp's filters do (widened bound, `trusted` where the
 // absolute losses provably fit in the widening); the loss count assumes |coordinates| < 1,
 // which the backends' scaled sites satisfy (SiteSet), so differences are below 2.
