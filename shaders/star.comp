@@ -348,7 +348,7 @@ void main() {
           // doubles cost lavapipe more than the operations (1M uniform: star shader 722-735 ms
           // formed again, 769-777 kept, 795-800 with the full filters; H100: 91 ms kept).
           int o = APEX_FILTERS ? apex_orient_filter(apex_lift(edge, edge2, q)) : orient2d_filter(pa, pb, p);
-          int ic = APEX_FILTERS ? apex_incircle_filter(apex_lift(edge, edge2, apex_point(pa, best_p)), q)
+          int ic = APEX_FILTERS ? apex_incircle_filter(apex_lift(edge, edge2, apex_point_with(pa, best_p, best_d2)), q)
                                 : incircle_filter(pa, pb, best_p, p);
           double d2 = q.z;
           // 0: reject, 1: better than the best, 2: the filters cannot tell. A restart may

@@ -74,6 +74,13 @@ dvec3 apex_point(dvec2 a, dvec2 p) {
   return dvec3(q, d2);
 }
 
+// apex_point where |p - a|^2 is known (the best candidate's, kept as it was formed): the same
+// value, three operations fewer a candidate.
+dvec3 apex_point_with(dvec2 a, dvec2 p, double d2) {
+  precise dvec2 q = p - a;
+  return dvec3(q, d2);
+}
+
 // p's lift against the edge a->b, given B = b - a and |B|^2.
 ApexLift apex_lift(dvec2 edge, double b2, dvec3 p) {
   precise double k_left = edge.x * p.y, k_right = edge.y * p.x;
