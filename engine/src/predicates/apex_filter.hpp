@@ -21,8 +21,7 @@
 // carries as many (adx^2 bdx cdy: its four leaves' and seven operations'), by his bound (10 eps,
 // with its second-order terms and the filters' widening) times the permanent, the same
 // expression over magnitudes (|Px| Vx_perm + |Py| Vy_perm + |P|^2 K_perm), itself rounded no
-// deeper than his. (Session 31 and before, this said 8 roundings: one leaf a path was counted.)
-// orient2d's form is Shewchuk's exactly.
+// deeper than his. orient2d's form is Shewchuk's exactly.
 // Underflow is handled as exact_arith.hpp's filters do (widened bound, `trusted` where the
 // absolute losses provably fit in the widening); the loss count assumes |coordinates| < 1,
 // which the backends' scaled sites satisfy (SiteSet), so differences are below 2.
