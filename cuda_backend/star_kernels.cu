@@ -357,8 +357,7 @@ constexpr int kInboxThreads = 256;
 __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pred, int n, int* star,
                                                                    std::uint32_t* info, int* owned, EdgeCells edge,
                                                                    StarInbox inbox, int* search_list,
-                                                                   unsigned int* search_count, bool ends_first,
-                                                                   bool write_as_walked) {
+                                                                   unsigned int* search_count, bool ends_first) {
   __shared__ unsigned int warp_base[kInboxThreads / 32];
   __shared__ unsigned int block_base;
   const int b = ends_first ? ends_first_block(static_cast<int>(blockIdx.x), static_cast<int>(gridDim.x))
@@ -366,17 +365,12 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   const int i = (b * kInboxThreads + static_cast<int>(threadIdx.x)) * 2 + 1;
   bool search = false;
   if (i < n && !edge.holds(i)) {
+    // Walked twice where the inbox holds the star, the row written the second time only: half
+    // the odd sites must search, and their rows are written again by the full walk.
     StarWalk w;
     int mine = 0;
-    int* const row = star + static_cast<std::size_t>(i) * kStar;
-    bool whole;
-    if (write_as_walked) {
-      whole = walk_from_inbox(pred, i, row, inbox, &w, &mine);
-    } else {
-      whole = walk_from_inbox(pred, i, nullptr, inbox, &w, &mine);
-      if (whole) walk_from_inbox(pred, i, row, inbox, &w, &mine);
-    }
-    if (whole) {
+    if (walk_from_inbox(pred, i, nullptr, inbox, &w, &mine)) {
+      walk_from_inbox(pred, i, star + static_cast<std::size_t>(i) * kStar, inbox, &w, &mine);
       info[i] = star_info(w);
       owned[i] = mine;
     } else {
@@ -992,8 +986,6 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     // (session 22 call 8): 4096^2 uniform 37.66 -> 36.27 ms, gaussian 48.14 -> 46.52, kuzmin
     // 69.44 -> 67.13; at 1024^2 and 2048^2 (uniform, lattice) and on the 4096^2 lattice within
     // noise either way (call 9). EXPANSE_CUDA_INBOX_FIRST=0 walks every odd site, for comparisons.
-    const char* inbox_walks_env = std::getenv("EXPANSE_CUDA_INBOX_WALKS");
-    const bool inbox_write_as_walked = !(inbox_walks_env && std::strcmp(inbox_walks_env, "2") == 0);
     const char* inbox_first_env = std::getenv("EXPANSE_CUDA_INBOX_FIRST");
     const bool inbox_first = phases == 2 && !(inbox_first_env && std::strcmp(inbox_first_env, "0") == 0);
     // Its list of the sites that search lives in the triangle offsets' room (offset[1..n], written
@@ -1081,7 +1073,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
           if (phase > 0 && inbox_first) {
             inbox_star_kernel<<<blocks_for(sites, kInboxThreads), kInboxThreads, 0, stream>>>(
                 d_pred.get(), static_cast<int>(n), d_star.get(), d_info.get(), d_owned.get(), edge, inbox,
-                d_search, d_counters.get() + 12, ends_first, inbox_write_as_walked);
+                d_search, d_counters.get() + 12, ends_first);
             timeline.mark("phase 1 from inboxes", stream);
             later_list<<<blocks_for(sites, 128), 128, 0, stream>>>(
                 g, d_pred.get(), d_star.get(), d_info.get(), d_owned.get(), d_counters.get(), pass_budget,
