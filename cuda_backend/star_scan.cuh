@@ -628,17 +628,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             segment_of(y, part, &slot, &slot_end);
           }
           if constexpr (By == Walker::thread) {
-            // One candidate an iteration of the scan loop (straight-line): a thread whose row
-            // segment ends takes its next one in the same loop while the others test their next
-            // candidates, where a loop of its own over each segment held a warp's lanes until the
-            // longest of their segments was done.
-            if (slot < slot_end) {
+            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
               ++work;
               double2 p;
               double d2;
               const int ip = slot_site(slot);
               const int verdict = judge(ip, p, d2);
-              if (!(verdict != 0 && take(ip, verdict, p, d2))) ++slot;
+              if (verdict != 0 && take(ip, verdict, p, d2)) break;
+              if (work > budget) break;
             }
           }
   #if defined(__CUDACC__)
