@@ -140,39 +140,6 @@ EXPANSE_DEVICE_NOINLINE int decide_exactly(const double2* points, bool nearest, 
   return sign == kUncertain ? 2 : sign > 0 ? 1 : 0;
 }
 
-/// The star kernels' block size (their __launch_bounds__ and launches).
-inline constexpr int kWalkThreads = 128;
-
-/// The best candidate's lift against the searched edge (ex::ApexLift: K, V and their
-/// magnitudes), which every candidate's incircle filter reads: formed where the best changes
-/// and kept, not formed again for each candidate. On the device it lives in shared memory, a
-/// slot a thread: kept in registers it pushed the walk's state into local memory (4096^2
-/// uniform 31.8 -> 32.2 ms at 72 registers, 34.9 at 64; H100, session 33 call 3), while formed
-/// for every candidate it was 14 of the candidate loop's 41 FP64 instructions, and that pipe
-/// held the loop (ncu, session 33 call 4). Three 16-byte loads a candidate instead, on another
-/// pipe.
-#if defined(__CUDACC__)
-__shared__ double2 walk_best_lifts[3][kWalkThreads];
-#endif
-struct BestLift {
-#if defined(__CUDA_ARCH__)
-  double2* slot = &walk_best_lifts[0][threadIdx.x];
-  EXPANSE_DEVICE_FORCE void store(const ex::ApexLift& l) const {
-    slot[0] = make_double2(l.k, l.vx);
-    slot[kWalkThreads] = make_double2(l.vy, l.k_perm);
-    slot[2 * kWalkThreads] = make_double2(l.vx_perm, l.vy_perm);
-  }
-  EXPANSE_DEVICE_FORCE ex::ApexLift load() const {
-    const double2 a = slot[0], b = slot[kWalkThreads], c = slot[2 * kWalkThreads];
-    return {a.x, a.y, b.x, b.y, c.x, c.y};
-  }
-#else
-  ex::ApexLift lift{};
-  void store(const ex::ApexLift& l) { lift = l; }
-  ex::ApexLift load() const { return lift; }
-#endif
-};
-
 /// Who walks one site's star: a thread alone, or the 32 threads of a warp together, each testing
 /// one of 32 consecutive candidates (CUDA only). A warp's walk is the thread's walk, decision for
 /// decision: the candidates are still taken in order, the first that the filters flag (a better
@@ -254,14 +221,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   int best = -1;
   double2 best_p = ps;
   double best_d2 = 0.0;
-  // The best's lift in an apex search (unused in the nearest-neighbour search, where a = b).
-  BestLift best_lift;
-  best_lift.store(ex::ApexLift{});
-  auto lift_best = [&]() {
-    if (phase == nearest) return;
-    best_lift.store(ex::apex_lift(ex::apex_edge(pa.x, pa.y, pb.x, pb.y),
-                                  ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2}));
-  };
   // visited: cells done; target: the box being scanned (target minus visited, a row segment at
   // a time: in row y, `part` 0 is left of the visited box or the whole row, 1 right of it).
   CellBox visited{kNone, kNone, -kNone, -kNone};
@@ -474,9 +433,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
     const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
-    // The best's lift (BestLift), formed from its point in the edge's frame and best_d2, kept
-    // in that frame (take, and the exact path below): the same rounded values as formed here.
-    const ex::FilterSigns ic = ex::apex_incircle_signs(best_lift.load(), q);
+    // The best in the edge's frame: its |C|^2 is best_d2, kept in that frame (take, and the
+    // exact path below), the same rounded value apex_point would form again.
+    const ex::ApexPoint c{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2};
+    const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, c), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
@@ -530,7 +490,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       best = ip;
       best_p = p;
       best_d2 = d2;
-      lift_best();
     }
     if (verdict == 2 || (verdict == 1 && big_scan)) {
       pending = verdict == 2 ? ip : -1;
@@ -860,7 +819,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       best = ip;
       best_p = load_site(g.points, ip);
       best_d2 = dist2(pa, best_p);  // in the search's frame, as judge forms it (a = s when nearest)
-      lift_best();
     }
     slot = ((Strips && strip >= 0) || scanning_across()) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
