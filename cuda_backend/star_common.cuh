@@ -59,7 +59,13 @@ EXPANSE_DEVICE_FORCE int ends_first_block(int b, int blocks) { return (b & 1) ? 
 /// 27.5-28.1: a later phase's warps wait for their few searching lanes, and every phase's
 /// kernel has its tail). Their general inboxes (128-byte rows for 10 posts, placed by
 /// arithmetic on the phase) made two phases slower too: 4096^2 uniform 44.0-44.4 ms against
-/// this layout's 41.9, grid 27.5-28.1 against 25.0 (call 3).
+/// this layout's 41.9, grid 27.5-28.1 against 25.0 (call 3). Nor did more phases win once the
+/// later phases' searching sites were listed (inbox_star_kernel; session 33 call 2, branch
+/// s33-phases): site i in phase i mod P, GPU-only at 4096^2 uniform 31.4 ms with two phases
+/// against 32.6 with three and 34.0 with four. Counted on the CPU, three phases cut the
+/// lock-step work 14%, but the middle phase's walks (searching for 4 triangles in 9 from an
+/// inbox neighbour) cost 1.4x a unit what the count says, and each phase adds its recording
+/// kernel and its tail.
 inline constexpr int kInboxTriples = 5;
 inline constexpr int kInboxWords = 16;  // 5 triples, padded to 64 bytes
 

@@ -57,6 +57,7 @@ inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per
 /// b49d802, GPU-only, sites per cell 3.5 / 3.06 / 2.84 / 2.625, two rounds alternated at
 /// 4096^2): 4096^2 31.54-31.65 / 31.33-31.40 / 31.28-31.30 / 31.21-31.23 ms; 2048^2 9.55 /
 /// 9.51 / - / 9.48; 1024^2 3.35 / 3.27 / - / 3.31; 512^2 1.75 / 1.65 / - / 1.72. So 2.625.
+/// Finer still (session 33 call 1, 2.4 and 2.25 a cell): 31.23 and 31.29 ms against 31.24-31.28.
 inline constexpr double kUniformCellsScale = 1.3125;
 
 /// The shape of uniform cells for these sites (kUniformCellsScale).

@@ -366,7 +366,9 @@ __global__ void __launch_bounds__(kInboxThreads) inbox_star_kernel(const int* pr
   bool search = false;
   if (i < n && !edge.holds(i)) {
     // Walked twice where the inbox holds the star, the row written the second time only: half
-    // the odd sites must search, and their rows are written again by the full walk.
+    // the odd sites must search, and their rows are written again by the full walk. (Walked once,
+    // writing the row as it went, this kernel took 1.76 ms instead of 1.15 at 4096^2 uniform:
+    // H100, session 33 call 4.)
     StarWalk w;
     int mine = 0;
     if (walk_from_inbox(pred, i, nullptr, inbox, &w, &mine)) {
@@ -852,7 +854,9 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // second phase at 6 gained gaussian 0.7 ms at 4096^2 (47.73 / 47.73 against 48.47 / 48.45) but
   // lost kuzmin as much (call 9, three rounds alternated: 69.92 / 69.56 / 71.02 against 69.90 /
   // 69.40 / 68.91 ms), and kuzmin is the input furthest from its goal; kuzmin also lost below 8
-  // in the first phase (call 6: 2048^2 22.5 ms at 8 against 23.1-25.0).
+  // in the first phase (call 6: 2048^2 22.5 ms at 8 against 23.1-25.0). Seven blocks (72
+  // registers, compiled in place of 6 for the trial) lost to eight on uniform cells (session 33
+  // call 3, 4096^2 GPU-only: 7,7,7 31.78 / 31.81 ms, 8,7,7 31.49 / 31.40, 8,6,6 31.34 / 31.38).
   const bool uniform_floats = buckets.uniform() && !input.sites.integer_coordinates;
   StarBlocks star_blocks = uniform_floats                    ? (n <= (std::size_t{1} << 22) ? StarBlocks{4, 4, 4}
                                                                                             : StarBlocks{8, 6, 6})

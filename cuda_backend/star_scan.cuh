@@ -428,7 +428,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
     // (the edge formed once a row segment instead: uniform 4096^2 star kernels 25.8 -> 26.4 ms,
-    // H100, session 32 call 1).
+    // H100, session 32 call 1). The best's lift kept where the best changes lost too, GPU-only
+    // at 4096^2 uniform: in registers 31.8 -> 32.2 ms at 7 blocks a multiprocessor (72
+    // registers) and 34.9 at 8, in shared memory (a slot a thread) 31.2 -> 33.8 (session 33
+    // calls 3 and 6), though these 14 of the candidate's 41 FP64 instructions hold its pipe.
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
@@ -628,6 +631,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             segment_of(y, part, &slot, &slot_end);
           }
           if constexpr (By == Walker::thread) {
+            // A warp's lanes leave this loop as their row segments end and wait there for the
+            // longest (7.2 lanes of 32 test candidates on average; ncu, session 33 call 4). One
+            // candidate an iteration of the scan loop instead ran the body at 9.9 lanes, but its
+            // state then spilled inside the loop: 4096^2 uniform 31.2 -> 40.8 ms (call 5).
             for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
               ++work;
               double2 p;
