@@ -432,6 +432,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     // at 4096^2 uniform: in registers 31.8 -> 32.2 ms at 7 blocks a multiprocessor (72
     // registers) and 34.9 at 8, in shared memory (a slot a thread) 31.2 -> 33.8 (session 33
     // calls 3 and 6), though these 14 of the candidate's 41 FP64 instructions hold its pipe.
+    // (ptxas itself forms the edge's B and |B|^2 once a row segment: ncu's SASS, call 4.)
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
