@@ -422,8 +422,11 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     }
   };
   // Candidate ip's verdict against the best: 0 reject, 1 better than the best, 2 the
-  // filters cannot tell. Straight-line: no branch that differs by search phase.
-  auto judge = [&](int ip, double2& p, double& d2) {
+  // filters cannot tell. Straight-line: no branch that differs by search phase. Neither counts
+  // the predicates (`twice`: whether the candidate costs two, the incircle's as well as the
+  // orientation's) nor turns away a, b and the best (`excluded`): the thread's candidate loop
+  // does both where it can do them cheaper (judge does them for each candidate).
+  auto judge_raw = [&](int ip, double2& p, double& d2, bool& twice) {
     p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
@@ -463,8 +466,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                                         [](double2 x, double2 y, double2 z) { return orient_on_lattice(x, y, z); }) : 0;
         verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie > 0 ? 1 : 0;
       }
-      predicates += phase != nearest ? 1u + (k > 0.0 && best >= 0) : 0u;
-      if (ip == i || ip == v || ip == best) verdict = 0;
+      twice = k > 0.0 && best >= 0;
       return verdict;
     }
     if (phase == nearest) {
@@ -479,11 +481,18 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const bool better = o.positive && (best < 0 || ic.positive);
       verdict = reject ? 0 : better ? 1 : 2;
     }
-    predicates += phase != nearest ? 1u + (o.positive && best >= 0) : 0u;
-    // a, b and the best are never candidates. No filter rejects them (each is a zero
-    // orientation, incircle or distance, or the best's own distance), so only a flagged
-    // candidate needs the test.
-    if (verdict != 0 && (ip == i || ip == v || ip == best)) verdict = 0;
+    twice = o.positive && best >= 0;
+    return verdict;
+  };
+  // a, b and the best are never candidates. No filter rejects them (each is a zero
+  // orientation, incircle or distance, or the best's own distance), so only a flagged
+  // candidate needs the test.
+  auto excluded = [&](int ip) { return ip == i || ip == v || ip == best; };
+  auto judge = [&](int ip, double2& p, double& d2) {
+    bool twice;
+    int verdict = judge_raw(ip, p, d2, twice);
+    predicates += phase != nearest ? 1u + twice : 0u;
+    if (verdict != 0 && excluded(ip)) verdict = 0;
     return verdict;
   };
   // What the thread does with a flagged candidate: take it if better, and leave the
@@ -636,15 +645,32 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             // longest (7.2 lanes of 32 test candidates on average; ncu, session 33 call 4). One
             // candidate an iteration of the scan loop instead ran the body at 9.9 lanes, but its
             // state then spilled inside the loop: 4096^2 uniform 31.2 -> 40.8 ms (call 5).
-            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-              ++work;
+            //
+            // The loop's own bookkeeping is what the loop must do, the rest done once after it:
+            // the budget ends it as its last candidate (the thread tests at most budget - work
+            // + 1 more, the one that passes the budget included), the work and the predicates
+            // are counted from how many it tested, and a, b and the best are turned away only
+            // where the filters flag them.
+            const std::uint32_t from = slot;
+            const unsigned room = work < budget ? budget - work : 0u;
+            const std::uint32_t stop = slot < slot_end && slot_end - slot > room ? slot + room + 1u : slot_end;
+            unsigned twice = 0;
+            bool stopped = false;
+            for (; slot < stop; ++slot) {  // candidate loop: straight-line, one exit
               double2 p;
               double d2;
+              bool two;
               const int ip = slot_site(slot);
-              const int verdict = judge(ip, p, d2);
-              if (verdict != 0 && take(ip, verdict, p, d2)) break;
-              if (work > budget) break;
+              const int verdict = judge_raw(ip, p, d2, two);
+              twice += two;
+              if (verdict != 0 && !excluded(ip) && take(ip, verdict, p, d2)) {
+                stopped = true;  // at the flagged candidate, which is counted
+                break;
+              }
             }
+            const unsigned tested = slot - from + (stopped ? 1u : 0u);
+            work += tested;
+            if (phase != nearest) predicates += tested + twice;
           }
   #if defined(__CUDACC__)
           if constexpr (By == Walker::warp) {

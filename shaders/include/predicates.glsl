@@ -58,6 +58,9 @@ int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
 const double WIDENING = 3.1554436208840472e-30lf;  // 2^-98
 const double ORIENT_FILTER_BOUND = ORIENT_BOUND + WIDENING;
 const double INCIRCLE_FILTER_BOUND = INCIRCLE_BOUND + WIDENING;
+// The apex filters' factors, rounded up as apex_filter.hpp's (0x1.80001p-52, 0x1.40001p-50).
+const double APEX_ORIENT_BOUND = 3.330671191457838e-16lf;
+const double APEX_INCIRCLE_BOUND = 1.1102238716581038e-15lf;
 
 struct ApexLift {
   double k, vx, vy, k_perm, vx_perm, vy_perm;
@@ -96,7 +99,7 @@ ApexLift apex_lift(dvec2 edge, double b2, dvec3 p) {
 }
 
 int apex_orient_filter(ApexLift p) {
-  precise double bound = ORIENT_FILTER_BOUND * p.k_perm;
+  precise double bound = APEX_ORIENT_BOUND * p.k_perm;
   return p.k_perm >= 6.26302612502804e-294lf ? sign_beyond(p.k, bound) : UNCERTAIN;  // 2^-974
 }
 
@@ -112,7 +115,7 @@ int apex_incircle_filter(ApexLift c, dvec3 p) {
   precise double ax = mag(p.x), ay = mag(p.y);
   precise double det = (p.x * c.vx + p.y * c.vy) - p.z * c.k;
   precise double permanent = (ax * c.vx_perm + ay * c.vy_perm) + p.z * c.k_perm;
-  precise double bound = INCIRCLE_FILTER_BOUND * permanent;
+  precise double bound = APEX_INCIRCLE_BOUND * permanent;
   // Underflow losses under 21 * 2^-969 for |coordinates| < 1 (apex_filter.hpp).
   bool trusted = permanent >= 6.413338752028713e-291lf;  // 2^-964
   return trusted ? sign_beyond(det, bound) : UNCERTAIN;

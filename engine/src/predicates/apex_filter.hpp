@@ -29,6 +29,16 @@
 
 namespace expanse::detail::exact {
 
+/// The apex filters' bound factors: orient2d_filter_bound and incircle_filter_bound rounded up
+/// (by under 10^-6 of themselves) to doubles whose low 32 bits are zero. A wider bound keeps the
+/// filter sound and leaves it a sliver more to the exact path; such a factor is an immediate
+/// operand of the H100's double multiply, where the exact factors took two uniform-register
+/// moves each in every candidate of the CUDA scan (4 of its 81 instructions).
+inline constexpr double apex_orient_bound = 0x1.80001p-52;
+inline constexpr double apex_incircle_bound = 0x1.40001p-50;
+static_assert(apex_orient_bound >= orient2d_filter_bound && apex_orient_bound <= orient2d_filter_bound * (1 + 1e-6));
+static_assert(apex_incircle_bound >= incircle_filter_bound && apex_incircle_bound <= incircle_filter_bound * (1 + 1e-6));
+
 /// The edge a->b of an apex search: a, and B = b - a with |B|^2.
 struct ApexEdge {
   double ax, ay, bx, by, b2;
@@ -81,7 +91,7 @@ EXPANSE_HD inline int sign_code(FilterSigns s) { return s.positive ? 1 : s.negat
 /// orient2d(a, b, p) from p's lift (its K); as orient2d_filter.
 EXPANSE_HD inline FilterSigns apex_orient_signs(const ApexLift& p) {
   const bool trusted = p.k_perm >= 0x1p-974;
-  const double bound = mul(orient2d_filter_bound, p.k_perm);
+  const double bound = mul(apex_orient_bound, p.k_perm);
   return {trusted && p.k > bound, trusted && -p.k > bound};
 }
 
@@ -107,7 +117,7 @@ EXPANSE_HD inline FilterSigns apex_incircle_signs(const ApexLift& c, const ApexP
   // 21 * 2^-969. A permanent of 2^-964 covers them: a constant, where the sum had cost the CUDA
   // candidate loop five of its 46 floating-point operations.
   const bool trusted = permanent >= 0x1p-964;
-  const double bound = mul(incircle_filter_bound, permanent);
+  const double bound = mul(apex_incircle_bound, permanent);
   return {trusted && det > bound, trusted && -det > bound};
 }
 
