@@ -439,11 +439,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
-    const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
+    const ex::ApexLift lift = ex::apex_lift(edge, q);
+    const ex::FilterSigns o = ex::apex_orient_signs(lift);
     // The best in the edge's frame: its |C|^2 is best_d2, kept in that frame (take, and the
     // exact path below), the same rounded value apex_point would form again.
     const ex::ApexPoint c{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2};
-    const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, c), q);
+    const ex::FilterSigns ic = ex::apex_incircle_signs_regrouped(edge, c, q, lift);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
