@@ -647,31 +647,21 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             // candidate an iteration of the scan loop instead ran the body at 9.9 lanes, but its
             // state then spilled inside the loop: 4096^2 uniform 31.2 -> 40.8 ms (call 5).
             //
-            // The loop's own bookkeeping is what the loop must do, the rest done once after it:
-            // the budget ends it as its last candidate (the thread tests at most budget - work
-            // + 1 more, the one that passes the budget included), the work and the predicates
-            // are counted from how many it tested, and a, b and the best are turned away only
-            // where the filters flag them.
-            const std::uint32_t from = slot;
-            const unsigned room = work < budget ? budget - work : 0u;
-            const std::uint32_t stop = slot < slot_end && slot_end - slot > room ? slot + room + 1u : slot_end;
-            unsigned twice = 0;
-            bool stopped = false;
-            for (; slot < stop; ++slot) {  // candidate loop: straight-line, one exit
+            // a, b and the best are turned away only where the filters flag them, and the
+            // predicates are counted without a test of the phase (`two` is false in the
+            // nearest-neighbour search, whose edge is a point).
+            const unsigned counted = phase != nearest ? 1u : 0u;
+            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+              ++work;
               double2 p;
               double d2;
               bool two;
               const int ip = slot_site(slot);
               const int verdict = judge_raw(ip, p, d2, two);
-              twice += two;
-              if (verdict != 0 && !excluded(ip) && take(ip, verdict, p, d2)) {
-                stopped = true;  // at the flagged candidate, which is counted
-                break;
-              }
+              predicates += counted + two;
+              if (verdict != 0 && !excluded(ip) && take(ip, verdict, p, d2)) break;
+              if (work > budget) break;
             }
-            const unsigned tested = slot - from + (stopped ? 1u : 0u);
-            work += tested;
-            if (phase != nearest) predicates += tested + twice;
           }
   #if defined(__CUDACC__)
           if constexpr (By == Walker::warp) {
