@@ -436,15 +436,19 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     // registers) and 34.9 at 8, in shared memory (a slot a thread) 31.2 -> 33.8 (session 33
     // calls 3 and 6), though these 14 of the candidate's 41 FP64 instructions hold its pipe.
     // (ptxas itself forms the edge's B and |B|^2 once a row segment: ncu's SASS, call 4.)
+    // The incircle regrouped around the candidate's orientation (|B|^2 (Px Cy - Py Cx) +
+    // |C|^2 Kp - |P|^2 Kc: the same monomials, 24 operations instead of 28, 42 FP64
+    // instructions in the loop instead of 46) was no faster: 4096^2 uniform stars 25.41 ms
+    // against 24.86 with this form (H100, session 34 call 2). With less work independent of
+    // the candidate's point, ptxas starts on the point straight after its load.
     const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
-    const ex::ApexLift lift = ex::apex_lift(edge, q);
-    const ex::FilterSigns o = ex::apex_orient_signs(lift);
+    const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
     // The best in the edge's frame: its |C|^2 is best_d2, kept in that frame (take, and the
     // exact path below), the same rounded value apex_point would form again.
     const ex::ApexPoint c{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2};
-    const ex::FilterSigns ic = ex::apex_incircle_signs_regrouped(edge, c, q, lift);
+    const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, c), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
@@ -649,7 +653,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             //
             // a, b and the best are turned away only where the filters flag them, and the
             // predicates are counted without a test of the phase (`two` is false in the
-            // nearest-neighbour search, whose edge is a point).
+            // nearest-neighbour search, whose edge is a point): with the filters' factors as
+            // immediates (apex_filter.hpp), 71 instructions a candidate instead of 81, and the
+            // 4096^2 uniform stars 25.40 -> 24.86 ms (H100, session 34 call 2). The budget and
+            // the counters taken out of the loop as well (its end at the budget, the work and
+            // predicates counted from its length) pushed the walk's counters and flags to local
+            // memory around it: 31.2 -> 38.4 ms GPU-only (call 1).
             const unsigned counted = phase != nearest ? 1u : 0u;
             for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
               ++work;

@@ -121,32 +121,6 @@ EXPANSE_HD inline FilterSigns apex_incircle_signs(const ApexLift& c, const ApexP
   return {trusted && det > bound, trusted && -det > bound};
 }
 
-/// incircle(a, b, c, p) regrouped around p's orientation, which the search forms anyway: the
-/// same determinant expanded along B's row instead of P's,
-///   incircle = |B|^2 (Px Cy - Py Cx) + |C|^2 Kp - |P|^2 Kc,  Kp = Bx Py - By Px, Kc = Bx Cy - By Cx,
-/// with `p_lift` p's lift (its K and K_perm: Kp and its magnitudes; the rest unused, and a
-/// kernel drops it). It needs c's point alone, not its lift: per candidate 24 floating-point
-/// operations where forming c's lift and testing against it take 28 (the CUDA scan forms c's
-/// lift again for every candidate; keeping it costs registers, above). The same twelve
-/// monomials, so the same permanent; each still carries at most 11 roundings (Bx^2 Px Cy: its
-/// four leaves', Bx^2, |B|^2, Px Cy, the difference, the product and the two sums; Cx^2 Bx Py
-/// likewise through Kp; Px^2 Bx Cy one fewer), and the permanent is rounded as deep as
-/// apex_incircle_signs's, so its bound and `trusted` hold as they are. Underflow: each lost
-/// product (2^-1075 at most) is multiplied by at most 8 after it, 99 2^-1075 in all, within
-/// the widening where the permanent is trusted.
-EXPANSE_HD inline FilterSigns apex_incircle_signs_regrouped(const ApexEdge& e, const ApexPoint& c, const ApexPoint& p,
-                                                            const ApexLift& p_lift) {
-  const double pc_left = mul(p.x, c.y), pc_right = mul(p.y, c.x);
-  const double kc_left = mul(e.bx, c.y), kc_right = mul(e.by, c.x);
-  const double det = sub(add(mul(e.b2, sub(pc_left, pc_right)), mul(c.d2, p_lift.k)), mul(p.d2, sub(kc_left, kc_right)));
-  const double permanent =
-      add(add(mul(e.b2, add(magnitude(pc_left), magnitude(pc_right))), mul(c.d2, p_lift.k_perm)),
-          mul(p.d2, add(magnitude(kc_left), magnitude(kc_right))));
-  const bool trusted = permanent >= 0x1p-964;
-  const double bound = mul(apex_incircle_bound, permanent);
-  return {trusted && det > bound, trusted && -det > bound};
-}
-
 /// Sign of incircle(a, b, c, p) for the candidate c whose lift is `c`, or `uncertain`.
 EXPANSE_HD inline int apex_incircle_filter(const ApexLift& c, const ApexPoint& p) {
   return sign_code(apex_incircle_signs(c, p));
