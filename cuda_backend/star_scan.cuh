@@ -423,10 +423,12 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   };
   // Candidate ip's verdict against the best: 0 reject, 1 better than the best, 2 the
   // filters cannot tell. Straight-line: no branch that differs by search phase. Neither counts
-  // the predicates (`twice`: whether the candidate costs two, the incircle's as well as the
-  // orientation's) nor turns away a, b and the best (`excluded`): the thread's candidate loop
-  // does both where it can do them cheaper (judge does them for each candidate).
-  auto judge_raw = [&](int ip, double2& p, double& d2, bool& twice) {
+  // the predicates nor turns away a, b and the best (`excluded`): the thread's candidate loop
+  // does both where it can do them cheaper (judge does them for each candidate). `left`: the
+  // orientation is certainly positive (never in the nearest-neighbour search, whose edge is a
+  // point); an apex search's candidate costs two predicates where it is and a best exists,
+  // else one.
+  auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left) {
     p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
@@ -441,7 +443,6 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     // instructions in the loop instead of 46) was no faster: 4096^2 uniform stars 25.41 ms
     // against 24.86 with this form (H100, session 34 call 2). With less work independent of
     // the candidate's point, ptxas starts on the point straight after its load.
-    const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
     const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
@@ -471,7 +472,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                                         [](double2 x, double2 y, double2 z) { return orient_on_lattice(x, y, z); }) : 0;
         verdict = in > 0.0 ? 1 : in < 0.0 ? 0 : tie > 0 ? 1 : 0;
       }
-      twice = k > 0.0 && best >= 0;
+      left = k > 0.0;
       return verdict;
     }
     if (phase == nearest) {
@@ -486,7 +487,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       const bool better = o.positive && (best < 0 || ic.positive);
       verdict = reject ? 0 : better ? 1 : 2;
     }
-    twice = o.positive && best >= 0;
+    left = o.positive;
     return verdict;
   };
   // a, b and the best are never candidates. No filter rejects them (each is a zero
@@ -494,9 +495,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // candidate needs the test.
   auto excluded = [&](int ip) { return ip == i || ip == v || ip == best; };
   auto judge = [&](int ip, double2& p, double& d2) {
-    bool twice;
-    int verdict = judge_raw(ip, p, d2, twice);
-    predicates += phase != nearest ? 1u + twice : 0u;
+    bool left;
+    int verdict = judge_raw(ex::apex_edge(pa.x, pa.y, pb.x, pb.y), ip, p, d2, left);
+    predicates += phase != nearest ? 1u + (left && best >= 0) : 0u;
     if (verdict != 0 && excluded(ip)) verdict = 0;
     return verdict;
   };
@@ -651,25 +652,46 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             // candidate an iteration of the scan loop instead ran the body at 9.9 lanes, but its
             // state then spilled inside the loop: 4096^2 uniform 31.2 -> 40.8 ms (call 5).
             //
-            // a, b and the best are turned away only where the filters flag them, and the
-            // predicates are counted without a test of the phase (`two` is false in the
-            // nearest-neighbour search, whose edge is a point): with the filters' factors as
-            // immediates (apex_filter.hpp), 71 instructions a candidate instead of 81, and the
-            // 4096^2 uniform stars 25.40 -> 24.86 ms (H100, session 34 call 2). The budget and
-            // the counters taken out of the loop as well (its end at the budget, the work and
-            // predicates counted from its length) pushed the walk's counters and flags to local
-            // memory around it: 31.2 -> 38.4 ms GPU-only (call 1).
-            const unsigned counted = phase != nearest ? 1u : 0u;
-            for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-              ++work;
-              double2 p;
-              double d2;
-              bool two;
-              const int ip = slot_site(slot);
-              const int verdict = judge_raw(ip, p, d2, two);
-              predicates += counted + two;
-              if (verdict != 0 && !excluded(ip) && take(ip, verdict, p, d2)) break;
-              if (work > budget) break;
+            // One loop for each kind of search, each compiled for it (the phase is fixed within a
+            // row segment): the apex searches' loop tests no phase and keeps no branch around the
+            // nearest-neighbour verdict, and counts the predicates without a test of the best:
+            // two for a candidate left of the edge, taken back where no best exists yet, and
+            // then the candidate is flagged (it is better), so the correction waits for the flag.
+            // a, b and the best are turned away only where the filters flag them. With the
+            // filters' factors as immediates (apex_filter.hpp), one loop for both with the same
+            // counting (the best tested) and the same turning away ran 71 instructions a
+            // candidate instead of 81 (the whole kernel 13.27 -> 12.62 G warp instructions: ncu,
+            // session 34 call 4), and the 4096^2 uniform stars took 24.86 ms instead of 25.40
+            // (call 2). The budget and the counters taken out of the loop as well (its end at
+            // the budget, the work and predicates counted from its length) pushed the walk's
+            // counters and flags to local memory around it: 31.2 -> 38.4 ms GPU-only (call 1).
+            if (phase == nearest) {
+              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+                ++work;
+                double2 p;
+                double d2;
+                bool left;  // never: the search's edge is a point
+                const int ip = slot_site(slot);
+                const int verdict = judge_raw(ex::apex_edge(pa.x, pa.y, pb.x, pb.y), ip, p, d2, left);
+                if (verdict != 0 && !excluded(ip) && take(ip, verdict, p, d2)) break;
+                if (work > budget) break;
+              }
+            } else {
+              const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
+              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+                ++work;
+                double2 p;
+                double d2;
+                bool left;
+                const int ip = slot_site(slot);
+                const int verdict = judge_raw(edge, ip, p, d2, left);
+                predicates += left ? 2u : 1u;
+                if (verdict != 0) {
+                  if (left && best < 0) --predicates;
+                  if (!excluded(ip) && take(ip, verdict, p, d2)) break;
+                }
+                if (work > budget) break;
+              }
             }
           }
   #if defined(__CUDACC__)
