@@ -428,7 +428,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // orientation is certainly positive (never in the nearest-neighbour search, whose edge is a
   // point); an apex search's candidate costs two predicates where it is and a best exists,
   // else one.
-  auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left) {
+  auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left,
+                       const ex::ApexLift* best_lift = nullptr) {
     p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
@@ -449,7 +450,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
     // The best in the edge's frame: its |C|^2 is best_d2, kept in that frame (take, and the
     // exact path below), the same rounded value apex_point would form again.
     const ex::ApexPoint c{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2};
-    const ex::FilterSigns ic = ex::apex_incircle_signs(ex::apex_lift(edge, c), q);
+    const ex::FilterSigns ic = ex::apex_incircle_signs(best_lift ? *best_lift : ex::apex_lift(edge, c), q);
     // Squared distances carry a few ulps of relative error, and none that matters above
     // 2^-960.
     int verdict;
@@ -678,17 +679,22 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
               }
             } else {
               const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
+              auto lift_of_best = [&]() {
+                return ex::apex_lift(edge, ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2});
+              };
+              ex::ApexLift best_lift = lift_of_best();
               for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
                 ++work;
                 double2 p;
                 double d2;
                 bool left;
                 const int ip = slot_site(slot);
-                const int verdict = judge_raw(edge, ip, p, d2, left);
+                const int verdict = judge_raw(edge, ip, p, d2, left, &best_lift);
                 predicates += left ? 2u : 1u;
                 if (verdict != 0) {
                   if (left && best < 0) --predicates;
                   if (!excluded(ip) && take(ip, verdict, p, d2)) break;
+                  best_lift = lift_of_best();
                 }
                 if (work > budget) break;
               }
