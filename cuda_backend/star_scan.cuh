@@ -429,8 +429,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // point); an apex search's candidate costs two predicates where it is and a best exists,
   // else one.
   auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left,
-                       const ex::ApexLift* best_lift = nullptr) {
-    p = load_site(g.points, ip);
+                       const ex::ApexLift* best_lift = nullptr, bool loaded = false) {
+    if (!loaded) p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
     // (the edge formed once a row segment instead: uniform 4096^2 star kernels 25.8 -> 26.4 ms,
@@ -683,13 +683,18 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                 return ex::apex_lift(edge, ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2});
               };
               ex::ApexLift best_lift = lift_of_best();
+              // The next candidate's point is loaded while this one is tested (the last one's
+              // again at the segment's end: no branch), since little else is left to hide the
+              // load's latency.
+              double2 next = slot < slot_end ? load_site(g.points, slot_site(slot)) : ps;
               for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
                 ++work;
-                double2 p;
+                double2 p = next;
+                next = load_site(g.points, slot_site(min(slot + 1, slot_end - 1)));
                 double d2;
                 bool left;
                 const int ip = slot_site(slot);
-                const int verdict = judge_raw(edge, ip, p, d2, left, &best_lift);
+                const int verdict = judge_raw(edge, ip, p, d2, left, &best_lift, true);
                 predicates += left ? 2u : 1u;
                 if (verdict != 0) {
                   if (left && best < 0) --predicates;
