@@ -431,17 +431,19 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // does both where it can do them cheaper (judge does them for each candidate). `left`: the
   // orientation is certainly positive (never in the nearest-neighbour search, whose edge is a
   // point); an apex search's candidate costs two predicates where it is and a best exists,
-  // else one.
+  // else one. `best_lift`: the best's lift where the caller keeps it (else formed here);
+  // `loaded`: p holds the candidate's point already.
   auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left,
                        const ex::ApexLift* best_lift = nullptr, bool loaded = false) {
     if (!loaded) p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept: registers cost this kernel more than the few operations
     // (the edge formed once a row segment instead: uniform 4096^2 star kernels 25.8 -> 26.4 ms,
-    // H100, session 32 call 1). The best's lift kept where the best changes lost too, GPU-only
+    // H100, session 32 call 1). The best's lift kept as the walk's state lost too, GPU-only
     // at 4096^2 uniform: in registers 31.8 -> 32.2 ms at 7 blocks a multiprocessor (72
     // registers) and 34.9 at 8, in shared memory (a slot a thread) 31.2 -> 33.8 (session 33
-    // calls 3 and 6), though these 14 of the candidate's 41 FP64 instructions hold its pipe.
+    // calls 3 and 6). The apex searches' own loop (below) passes its edge and keeps the lift as
+    // the loop's state (`best_lift`), which fits (session 34).
     // (ptxas itself forms the edge's B and |B|^2 once a row segment: ncu's SASS, call 4.)
     // The incircle regrouped around the candidate's orientation (|B|^2 (Px Cy - Py Cx) +
     // |C|^2 Kp - |P|^2 Kc: the same monomials, 24 operations instead of 28, 42 FP64
@@ -670,9 +672,14 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
             // (call 2). The budget and the counters taken out of the loop as well (its end at
             // the budget, the work and predicates counted from its length) pushed the walk's
             // counters and flags to local memory around it: 31.2 -> 38.4 ms GPU-only (call 1).
+            // The apex loop then 65 instructions, 4096^2 uniform 30.2 ms (call 5); keeping the
+            // best's lift in it, 51, 30.1 ms (call 6); and loading the next point ahead, 57
+            // instructions but 29.2 ms (call 7). Kuzmin's cells (TailColumns) lost 0.4 ms with the
+            // last two and keep the loop without them (kLoopAhead; call 8: kuzmin 45.4 -> 44.3).
             if (ExactLattice || phase == nearest) {
               // (A lattice keeps the one loop it had: with the apex searches' loop below its
-              // 4096^2 stars took 16.35 ms instead of 15.87, session 34 call 5.)
+              // 4096^2 stars took 16.35 ms against 15.87 (session 34 call 5); back on this one,
+              // 16.12 (call 8).)
               for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
                 ++work;
                 double2 p;
@@ -682,45 +689,33 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                 if (verdict != 0 && take(ip, verdict, p, d2)) break;
                 if (work > budget) break;
               }
-            } else if constexpr (!kLoopAhead) {
-              const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
-              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-                ++work;
-                double2 p;
-                double d2;
-                bool left;
-                const int ip = slot_site(slot);
-                const int verdict = judge_raw(edge, ip, p, d2, left);
-                predicates += left ? 2u : 1u;
-                if (verdict != 0) {
-                  if (left && best < 0) --predicates;
-                  if (!excluded(ip) && take(ip, verdict, p, d2)) break;
-                }
-                if (work > budget) break;
-              }
             } else {
               const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
               auto lift_of_best = [&]() {
                 return ex::apex_lift(edge, ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2});
               };
-              ex::ApexLift best_lift = lift_of_best();
-              // The next candidate's point is loaded while this one is tested (the last one's
-              // again at the segment's end: no branch), since little else is left to hide the
-              // load's latency.
-              double2 next = slot < slot_end ? load_site(g.points, slot_site(slot)) : ps;
+              // kLoopAhead: the best's lift kept, and the next candidate's point loaded while
+              // this one is tested (the last one's again at the segment's end: no branch), since
+              // little else is left to hide the load's latency.
+              ex::ApexLift best_lift{};
+              double2 next = ps;
+              if constexpr (kLoopAhead) {
+                best_lift = lift_of_best();
+                if (slot < slot_end) next = load_site(g.points, slot_site(slot));
+              }
               for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
                 ++work;
                 double2 p = next;
-                next = load_site(g.points, slot_site(min(slot + 1, slot_end - 1)));
+                if constexpr (kLoopAhead) next = load_site(g.points, slot_site(min(slot + 1, slot_end - 1)));
                 double d2;
                 bool left;
                 const int ip = slot_site(slot);
-                const int verdict = judge_raw(edge, ip, p, d2, left, &best_lift, true);
+                const int verdict = judge_raw(edge, ip, p, d2, left, kLoopAhead ? &best_lift : nullptr, kLoopAhead);
                 predicates += left ? 2u : 1u;
                 if (verdict != 0) {
                   if (left && best < 0) --predicates;
                   if (!excluded(ip) && take(ip, verdict, p, d2)) break;
-                  best_lift = lift_of_best();
+                  if constexpr (kLoopAhead) best_lift = lift_of_best();
                 }
                 if (work > budget) break;
               }
