@@ -166,6 +166,7 @@ struct RunCounters {
   std::uint64_t open_edges = 0;             ///< edges the device audit found open inside the hull
   bool uniform_cells = false;               ///< the evenness test chose uniform cells
   bool short_morton_sort = false;           ///< the device's preparation sorted by short keys
+  bool merge_hash_tables = false;           ///< its merge found a run too long to look back through
 };
 RunCounters& last_run_counters();
 

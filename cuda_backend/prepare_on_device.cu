@@ -16,10 +16,10 @@
 // sorting and merging is the device's to do, and the host only validates and finds the hull.
 // Equal points have equal codes, so merging looks only through runs of equal codes (30 bits a
 // coordinate: distinct points share one only when closer than 2^-30 of the box). Where a run is
-// longer than kMergeRunLimit (many copies of few points, or a cluster finer than the
-// quantisation: kuzmin's centre at 2048^2 and up), equal points are found through hash tables,
-// one for each run of equal codes, instead (three more sorts, by y, x and the code, had made kuzmin's merge 11.9 ms
-// against uniform's 2.8 at 4096^2 on the H100). (A first version merged within cells of the star grid
+// longer than kLookBackLimit (many copies of few points, or a cluster far finer than the
+// quantisation), equal points are found through hash tables, one for each run of equal codes,
+// instead (three more sorts, by y, x and the code, had made kuzmin's merge 11.9 ms against
+// uniform's 2.8 at 4096^2 on the H100). (A first version merged within cells of the star grid
 // and left crowded cells to the host: a quantile grid's central cell holds far more than its
 // share of a radial cluster, so kuzmin inputs went back to the host's preparation.)
 #include <cub/device/device_radix_sort.cuh>
@@ -41,9 +41,17 @@
 namespace expanse::detail::cuda {
 namespace {
 
-/// Past this many points with one Morton code, equal points are found through hash tables, not by
-/// looking back through the run.
-constexpr int kMergeRunLimit = 64;
+/// Past this many points with one Morton code (the full sort's, refined_morton), equal points are
+/// found through hash tables, not by looking back through the run. Kuzmin's centre at 4096^2 has
+/// runs of up to 164 sites (21% of its sites in runs of 65 to 164), where a look back costs less
+/// than the tables' four passes and their atomics (a limit of 64 sent kuzmin through the tables:
+/// 0.83 ms for the merge, H100, session 35 call 1).
+constexpr int kLookBackLimit = 256;
+/// Past this many points with one Morton code the run is "unordered": the device's preparation
+/// leaves it in input order, and the walks order such inputs' cells by x (StarGrid's
+/// `unordered_runs`). Kuzmin has them from 2048^2 up.
+constexpr int kUnorderedRunLimit = 64;
+static_assert(kUnorderedRunLimit <= kLookBackLimit);
 constexpr int kThreads = 256;
 int blocks_for(std::size_t n) { return static_cast<int>((n + kThreads - 1) / kThreads); }
 
@@ -67,45 +75,113 @@ __global__ void gather_scaled_kernel(const int* sorted_ids, const double2* raw, 
   if (i < n) sorted[i] = scale(raw[sorted_ids[i]]);
 }
 
-/// flags[0] = 1 where a run of equal Morton codes is longer than kMergeRunLimit + 1: one look
-/// back a position (the codes are sorted). Such a run sends every point through the runs' hash tables
-/// (kuzmin at 4096^2: most of its points lie in such runs), and first_equal_kernel is not run:
-/// its look back through the shorter runs around them had cost kuzmin 2.4 ms at 4096^2 on the
-/// H100 for results the hash table then replaced (session 14 call 2).
-__global__ void long_run_kernel(const std::uint64_t* codes, int n, unsigned int* flags) {
-  const int p = blockIdx.x * blockDim.x + threadIdx.x;
-  if (p > kMergeRunLimit && p < n && codes[p - kMergeRunLimit - 1] == codes[p]) atomicOr(flags, 1u);
-}
+/// What first_equal_kernel's survey finds (bits of one word).
+constexpr unsigned int kSomeRepeat = 1u;    ///< some point repeats one earlier in its run
+constexpr unsigned int kUnorderedRun = 2u;  ///< a run longer than kUnorderedRunLimit + 1
+constexpr unsigned int kTooLongRun = 4u;    ///< a run longer than kLookBackLimit + 1: the hash tables
 
 /// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
 /// (p itself if none); head[p] = 1 where that is p. Equal points have equal codes, and within a
 /// run the positions are in input order (the sort is stable), so the first is the smallest input
-/// index. Only where long_run_kernel found no run longer than kMergeRunLimit + 1.
+/// index. Only where the survey found no run longer than kLookBackLimit + 1.
 ///
-/// With `repeats` (first and head null) it only learns whether any point repeats (*repeats = 1):
-/// mostly none does, and then every position is a head and no scan is needed.
-__global__ void first_equal_kernel(const double2* sorted, const std::uint64_t* codes, int n, int* first, int* head,
-                                   unsigned int* repeats) {
+/// A warp looks back together: its lanes are consecutive positions, and it goes through the
+/// positions from the start of its first lane's run to its last lane 32 at a time, each lane
+/// reading one and passing the point's tag (point_tag) around; a lane reads a point to compare it
+/// with its own only where their tags agree. Points read whole by every lane were bound by the
+/// first-level cache's bandwidth (16 bytes to each of 32 lanes a step, as much as 32 lanes
+/// reading 16 bytes each): kuzmin 4096^2's survey took 0.53 ms with a look back a lane, 0.51
+/// with one point a step for the warp (H100, ncu, session 35 calls 2-4; 22.6 M steps).
+///
+/// With `survey` (first and head null) it only learns what the runs hold, into *survey's bits:
+/// mostly no point repeats, and then every position is a head and no scan is needed. A warp with
+/// a position further than kLookBackLimit into its run only flags the run as too long (one read
+/// a lane), so a run of a million copies costs no more than the look backs near its start.
+static_assert(kThreads % 32 == 0);
+
+/// 32 bits of v that equal points share (-0 as +0). Points of one run lie within one quantum, so
+/// their coordinates differ in the low bits: those are kept whole.
+__device__ __forceinline__ unsigned int point_tag(double2 v) {
+  const auto x = static_cast<unsigned long long>(__double_as_longlong(v.x == 0.0 ? 0.0 : v.x));
+  const auto y = static_cast<unsigned long long>(__double_as_longlong(v.y == 0.0 ? 0.0 : v.y));
+  return static_cast<unsigned int>(x) ^ (static_cast<unsigned int>(y) * 0x9E3779B9u) ^
+         static_cast<unsigned int>((x ^ y) >> 32);
+}
+
+/// Bits lo .. hi - 1 of a word (none where hi <= lo; lo and hi clamped to 0 .. 32).
+__device__ __forceinline__ unsigned int bits_between(int lo, int hi) {
+  lo = max(lo, 0);
+  hi = min(hi, 32);
+  if (hi <= lo) return 0u;
+  const unsigned int below_hi = hi == 32 ? ~0u : (1u << hi) - 1u;
+  return below_hi & ~((1u << lo) - 1u);
+}
+
+__global__ void first_equal_kernel(const double2* __restrict__ sorted, const std::uint64_t* __restrict__ codes, int n,
+                                   int* first, int* head, unsigned int* survey) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
-  if (p >= n) return;
-  const std::uint64_t code = codes[p];
-  int begin = p;
-  while (begin > 0 && codes[begin - 1] == code) --begin;
+  const int lane = threadIdx.x & 31;
+  const int warp_first = p - lane;
+  if (warp_first >= n) return;  // the whole warp
+  const bool valid = p < n;
+  const std::uint64_t code = valid ? codes[p] : 0;
+  const bool starts = !valid || p == 0 || codes[p - 1] != code;
+  if (survey) {
+    const bool unordered = valid && p > kUnorderedRunLimit && codes[p - kUnorderedRunLimit - 1] == code;
+    const bool too_long = valid && p > kLookBackLimit && codes[p - kLookBackLimit - 1] == code;
+    const unsigned found =
+        (__any_sync(~0u, unordered) ? kUnorderedRun : 0u) | (__any_sync(~0u, too_long) ? kTooLongRun : 0u);
+    if (found & kTooLongRun) {
+      if (lane == 0 && (*survey & found) != found) atomicOr(survey, found);
+      return;
+    }
+    if (lane == 0 && found && (*survey & found) != found) atomicOr(survey, found);
+  }
+  // Each lane's run start: the last lane at or below it that starts a run, else the first lane's
+  // run start before the warp.
+  const unsigned starts_mask = __ballot_sync(~0u, starts);
   int q = p;
-  if (begin < p) {
-    const double2 v = sorted[p];
-    for (int j = begin; j < p; ++j) {
-      const double2 w = sorted[j];
-      if (w.x == v.x && w.y == v.y) {
-        q = j;
-        break;
+  if (starts_mask != ~0u) {  // some lane's run began before it
+    int warp_begin = warp_first;
+    if (!(starts_mask & 1u)) {
+      // Back from the warp, 32 positions a step (at most kLookBackLimit + 1 in all).
+      const std::uint64_t first_code = __shfl_sync(~0u, code, 0);
+      for (int base = warp_first;; base -= 32) {
+        const int at = base - 1 - lane;
+        const unsigned other = __ballot_sync(~0u, at < 0 || codes[at] != first_code);
+        if (other) {
+          warp_begin = base - (__ffs(other) - 1);
+          break;
+        }
+      }
+    }
+    const unsigned at_or_below = starts_mask & (lane == 31 ? ~0u : (2u << lane) - 1u);
+    const int begin = at_or_below ? warp_first + 31 - __clz(at_or_below) : warp_begin;
+    const int last = min(warp_first + 31, n - 1);
+    const double2 v = valid ? sorted[p] : make_double2(0.0, 0.0);
+    const unsigned int tag = point_tag(v);
+    for (int base = warp_begin; base < last; base += 32) {
+      const unsigned int tag_there = base + lane < last ? point_tag(sorted[base + lane]) : 0u;
+      // Bit k: position base + k has this lane's tag (three instructions a position, unrolled).
+      unsigned int agree = 0;
+#pragma unroll
+      for (int k = 0; k < 32; ++k) agree |= (__shfl_sync(~0u, tag_there, k) == tag ? 1u : 0u) << k;
+      // Only positions of this lane's run before it; the first equal point found is the smallest.
+      for (agree &= bits_between(begin - base, q - base); agree; agree &= agree - 1) {
+        const int j = base + __ffs(agree) - 1;
+        const double2 w = sorted[j];
+        if (w.x == v.x && w.y == v.y) {
+          q = j;
+          break;
+        }
       }
     }
   }
-  if (repeats) {
-    if (q != p && *repeats == 0u) atomicOr(repeats, 1u);
+  if (survey) {
+    if (__any_sync(~0u, q != p) && lane == 0 && (*survey & kSomeRepeat) == 0u) atomicOr(survey, kSomeRepeat);
     return;
   }
+  if (!valid) return;
   first[p] = q;
   head[p] = q == p;
 }
@@ -173,10 +249,10 @@ __global__ void morton_kernel(const double2* raw, InputScale scale, int n, Quant
 /// centre) puts millions of points in a few keys, and takes the full sort.
 constexpr int kShortKeyShift = 2 * Quantiser::bits - 32;
 /// The longest run of equal short keys a thread orders (an insertion sort by the whole code); a
-/// longer run sends the input through the full sort. Not above kMergeRunLimit: the merge then
-/// needs no check for long runs of equal codes.
+/// longer run sends the input through the full sort. Not above kUnorderedRunLimit: runs of the
+/// short sort's codes are never unordered nor too long to look back through.
 constexpr int kShortRunLimit = 32;
-static_assert(kShortRunLimit <= kMergeRunLimit);
+static_assert(kShortRunLimit <= kUnorderedRunLimit);
 /// Sampled points whose short keys forecast which sort serves (short_sort_forecast).
 constexpr int kShortKeySamples = 4096;
 
@@ -407,7 +483,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   DeviceArray<int> d_site_input(n, stream), d_representative(n, stream);
   std::optional<DeviceArray<int>> d_hull_sites;  // once the hull is known
   bool short_sorted = false;                     // the sites ordered by the short sort
-  bool long_runs = false;                        // runs of equal keys past kMergeRunLimit
+  bool long_runs = false;                        // runs of equal codes past kUnorderedRunLimit
+  bool hashed = false;                           // runs past kLookBackLimit: the hash tables
   // Before the device's first stage: the forecast is host work, and timed inside a stage it
   // would count as the device's.
   const bool short_forecast = short_sort_forecast(input.points, input.scan, Quantiser(bounds));
@@ -425,8 +502,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     DeviceArray<std::uint64_t> d_codes(n, stream), d_codes_sorted(n, stream);
     DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream);
     DeviceArray<int> d_first(n, stream), d_head(n, stream), d_slot(n, stream);
-    // [0]: a check's verdict (short keys' runs too long, runs of codes too long to merge
-    // pairwise); [1]: some point repeats.
+    // [0]: the short sort's check (short keys' runs too long), then the merge's survey
+    // (first_equal_kernel's bits); [1]: some point repeats (the hash tables).
     DeviceArray<unsigned int> d_flags(2, stream);
     // The short sort's keys live in the codes' array, unsorted then sorted (2n words).
     std::uint32_t* const d_keys = reinterpret_cast<std::uint32_t*>(d_codes.get());
@@ -486,29 +563,23 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     timer.end();
 
     timer.begin("merge duplicates");
-    words[0] = 0;
-    if (!short_sorted) {
-      EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, sizeof(unsigned int), stream));
-      long_run_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_codes_sorted.get(), static_cast<int>(n), d_flags.get());
-      EXPANSE_CUDA(cudaGetLastError());
-      EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
-      EXPANSE_CUDA(cudaStreamSynchronize(stream));
-    }
-    // First only whether any point repeats; the groups (first, head) and their slots (a scan)
-    // only where one does: H100, 4096^2, the merge 0.17 -> 0.07 ms on uniform, gaussian and the
-    // lattice, kuzmin (hash tables) 1.40 -> 1.09 (session 28 call 1).
-    const bool hashed = words[0] != 0;
-    long_runs = hashed;
-    EXPANSE_CUDA(cudaMemsetAsync(d_flags.get() + 1, 0, sizeof(unsigned int), stream));
+    // First a survey of the runs: whether any point repeats (where none does, no groups and no
+    // scan: H100, 4096^2, the merge 0.17 -> 0.07 ms on uniform, gaussian and the lattice, session
+    // 28 call 1), whether a run is unordered, whether one is too long to look back through.
+    EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, 2 * sizeof(unsigned int), stream));
+    first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
+                                                               static_cast<int>(n), nullptr, nullptr, d_flags.get());
+    EXPANSE_CUDA(cudaGetLastError());
+    EXPANSE_CUDA(cudaMemcpyAsync(&words[0], d_flags.get(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+    EXPANSE_CUDA(cudaStreamSynchronize(stream));
+    const unsigned int survey = words[0];
+    long_runs = (survey & kUnorderedRun) != 0;
+    hashed = (survey & kTooLongRun) != 0;
+    words[3] = survey & kSomeRepeat;
     RunTables runs{};
-    if (!hashed) {
-      first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
-                                                                 static_cast<int>(n), nullptr, nullptr,
-                                                                 d_flags.get() + 1);
-      EXPANSE_CUDA(cudaGetLastError());
-    } else {
+    if (hashed) {
       // A run of equal codes too long to search pairwise (many copies of a point, or a cluster
-      // finer than the quantisation): equal points found through a hash table for each run.
+      // far finer than the quantisation): equal points found through a hash table for each run.
       // The unsorted codes and ids are free now: the tables (2n slots) go to the codes' array
       // (one array fewer from the pool), the runs' lengths to the ids', their starts to the
       // slots' (free until the scan below).
@@ -528,9 +599,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
       hash_insert_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), static_cast<int>(n), runs,
                                                                  d_flags.get() + 1);
       EXPANSE_CUDA(cudaGetLastError());
+      EXPANSE_CUDA(cudaMemcpyAsync(&words[3], d_flags.get() + 1, sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
+      EXPANSE_CUDA(cudaStreamSynchronize(stream));
     }
-    EXPANSE_CUDA(cudaMemcpyAsync(&words[3], d_flags.get() + 1, sizeof(unsigned int), cudaMemcpyDeviceToHost, stream));
-    EXPANSE_CUDA(cudaStreamSynchronize(stream));
     const bool repeats = words[3] != 0;
     if (repeats) {
       if (!hashed)
@@ -640,6 +711,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                   copies_ms});
   if (alongside) host.push_back({"cuda wait for the sites' copy after the growth", ms(host_grown, clock::now())});
   last_run_counters().short_morton_sort = short_sorted;
+  last_run_counters().merge_hash_tables = hashed;
   last_run_counters().bytes_to_device = n * sizeof(double2) + h * sizeof(int);
   last_run_counters().bytes_to_host +=
       m * (sizeof(double2) + sizeof(int)) + h * sizeof(int) + (m < n ? n * sizeof(int) : 0);

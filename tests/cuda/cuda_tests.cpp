@@ -121,7 +121,7 @@ void grow_case(Backend& backend, const std::string& name, const std::vector<Poin
 /// valid growth on them. `sort`: EXPANSE_CUDA_MORTON_SORT for the run ("short", "full" or null:
 /// the forecast decides); `short_expected`: whether the short sort must have ordered them.
 void device_preparation_case(Backend& backend, const std::string& name, const std::vector<Point2>& input,
-                             const char* sort, bool short_expected) {
+                             const char* sort, bool short_expected, bool hash_expected = false) {
   const std::string test = "device preparation, " + std::string(sort ? sort : "forecast") + " sort: " + name;
   if (sort) setenv("EXPANSE_CUDA_MORTON_SORT", sort, 1);
   try {
@@ -151,8 +151,12 @@ void device_preparation_case(Backend& backend, const std::string& name, const st
       return fail(test, "representatives differ");
     if (detail::cuda::last_run_counters().short_morton_sort != short_expected)
       return fail(test, short_expected ? "the short sort did not serve" : "the short sort served");
+    if (detail::cuda::last_run_counters().merge_hash_tables != hash_expected)
+      return fail(test, hash_expected ? "the merge looked back through a run too long for it"
+                                      : "the merge took the hash tables");
     check_partial(test, device, made->hull, made->grown.partial, false, false);
-    std::printf("ok   %s: %zu sites (%s sort)\n", test.c_str(), device.points.size(), short_expected ? "short" : "full");
+    std::printf("ok   %s: %zu sites (%s sort, merged by %s)\n", test.c_str(), device.points.size(),
+                short_expected ? "short" : "full", hash_expected ? "hash tables" : "looking back");
   } catch (const Error& e) {
     unsetenv("EXPANSE_CUDA_MORTON_SORT");
     fail(test, std::string("threw ") + e.what());
@@ -438,11 +442,16 @@ int main(int argc, char** argv) {
     device_preparation_case(*backend, "duplicates", generate_points("duplicates", 3000, 18), "short", true);
     device_preparation_case(*backend, "uniform", generate_points("uniform", 20000, 20), nullptr, true);
     device_preparation_case(*backend, "kuzmin", generate_points("kuzmin", 20000, 19), nullptr, false);
-    // A cluster finer than the quantisation (300 distinct points 1e-13 apart sharing a code or
-    // two): the merge's hash tables, with no point repeating (no groups made, no scan).
+    // 200 copies of one point among distinct ones: a run of equal codes longer than the short
+    // sort takes, short enough to look back through, every copy merged into the first.
+    std::vector<Point2> crowded = generate_points("uniform", 3000, 21);
+    crowded.insert(crowded.end(), 200, crowded[11]);
+    device_preparation_case(*backend, "200 copies of one point", crowded, nullptr, false);
+    // A cluster far finer than the quantisation (1000 distinct points 1e-13 apart sharing a code
+    // or two): the merge's hash tables, with no point repeating (no groups made, no scan).
     std::vector<Point2> fine = generate_points("uniform", 1000, 15);
-    for (int k = 0; k < 300; ++k) fine.push_back({0.5 + (k % 17) * 1e-13, 0.25 + (k / 17) * 1e-13});
-    device_preparation_case(*backend, "a cluster finer than the quantisation", fine, nullptr, false);
+    for (int k = 0; k < 1000; ++k) fine.push_back({0.5 + (k % 40) * 1e-13, 0.25 + (k / 40) * 1e-13});
+    device_preparation_case(*backend, "a cluster finer than the quantisation", fine, nullptr, false, true);
   }
 
   {
@@ -455,12 +464,12 @@ int main(int argc, char** argv) {
     std::vector<Point2> crowded = generate_points("uniform", 1000, 14);
     crowded.insert(crowded.end(), 100, crowded[7]);
     full_pipeline_case("device preparation: 101 copies of one point", crowded, options);
-    // A cluster finer than the quantisation (300 distinct points, 1e-13 apart, share a Morton
-    // code or two) with 60 copies among them: the merge's hash tables for each run. The
+    // A cluster far finer than the quantisation (1000 distinct points, 1e-13 apart, share a
+    // Morton code or two) with 60 copies among them: the merge's hash tables for each run. The
     // representatives must be the host preparation's, input for input.
     std::vector<Point2> fine = generate_points("uniform", 1000, 15);
-    for (int k = 0; k < 300; ++k) fine.push_back({0.5 + (k % 17) * 1e-13, 0.25 + (k / 17) * 1e-13});
-    for (int k = 0; k < 60; ++k) fine.push_back(fine[1000 + (k * 7) % 300]);
+    for (int k = 0; k < 1000; ++k) fine.push_back({0.5 + (k % 40) * 1e-13, 0.25 + (k / 40) * 1e-13});
+    for (int k = 0; k < 60; ++k) fine.push_back(fine[1000 + (k * 7) % 1000]);
     const std::string test = "device preparation: a cluster finer than the quantisation, with copies";
     full_pipeline_case(test, fine, options);
     try {
@@ -470,6 +479,8 @@ int main(int argc, char** argv) {
         fail(test, "representatives differ from the host preparation's");
       else if (host.points.size() != fine.size() - 60)
         fail(test, "the case has not the copies it was built with");
+      else if (!detail::cuda::last_run_counters().merge_hash_tables)
+        fail(test, "the merge did not take the hash tables");
       else
         std::printf("ok   %s: representatives as the host's (%zu sites)\n", test.c_str(), host.points.size());
     } catch (const Error& e) {
