@@ -80,24 +80,7 @@ constexpr unsigned int kSomeRepeat = 1u;    ///< some point repeats one earlier 
 constexpr unsigned int kUnorderedRun = 2u;  ///< a run longer than kUnorderedRunLimit + 1
 constexpr unsigned int kTooLongRun = 4u;    ///< a run longer than kLookBackLimit + 1: the hash tables
 
-/// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
-/// (p itself if none); head[p] = 1 where that is p. Equal points have equal codes, and within a
-/// run the positions are in input order (the sort is stable), so the first is the smallest input
-/// index. Only where the survey found no run longer than kLookBackLimit + 1.
-///
-/// A warp looks back together: its lanes are consecutive positions, and it goes through the
-/// positions from the start of its first lane's run to its last lane 32 at a time, each lane
-/// reading one and passing the point's tag (point_tag) around; a lane reads a point to compare it
-/// with its own only where their tags agree. Points read whole by every lane were bound by the
-/// first-level cache's bandwidth (16 bytes to each of 32 lanes a step, as much as 32 lanes
-/// reading 16 bytes each): kuzmin 4096^2's survey took 0.53 ms with a look back a lane, 0.51
-/// with one point a step for the warp (H100, ncu, session 35 calls 2-4; 22.6 M steps).
-///
-/// With `survey` (first and head null) it only learns what the runs hold, into *survey's bits:
-/// mostly no point repeats, and then every position is a head and no scan is needed. A warp with
-/// a position further than kLookBackLimit into its run only flags the run as too long (one read
-/// a lane), so a run of a million copies costs no more than the look backs near its start.
-static_assert(kThreads % 32 == 0);
+static_assert(kThreads % 32 == 0, "first_equal_kernel's warps fill their blocks");
 
 /// 32 bits of v that equal points share (-0 as +0). Points of one run lie within one quantum, so
 /// their coordinates differ in the low bits: those are kept whole.
@@ -117,6 +100,24 @@ __device__ __forceinline__ unsigned int bits_between(int lo, int hi) {
   return below_hi & ~((1u << lo) - 1u);
 }
 
+/// first[p]: the first position of p's run of equal Morton codes holding a point equal to p's
+/// (p itself if none); head[p] = 1 where that is p. Equal points have equal codes, and within a
+/// run the positions are in input order (the sort is stable), so the first is the smallest input
+/// index. Only where the survey found no run longer than kLookBackLimit + 1.
+///
+/// A warp looks back together: its lanes are consecutive positions, and it goes through the
+/// positions from the start of its first lane's run to its last lane 32 at a time, each lane
+/// reading one and passing the point's tag (point_tag) around; a lane reads a point to compare it
+/// with its own only where their tags agree. Points read whole by every lane were bound by the
+/// first-level cache's bandwidth (16 bytes to each of 32 lanes a step, as much as 32 lanes
+/// reading 16 bytes each): kuzmin 4096^2's survey took 0.53 ms with a look back a lane, 0.51
+/// with one point a step for the warp, 0.34 with the tags (H100, ncu, session 35 calls 2-5;
+/// 22.6 M steps).
+///
+/// With `survey` (first and head null) it only learns what the runs hold, into *survey's bits:
+/// mostly no point repeats, and then every position is a head and no scan is needed. A warp with
+/// a position further than kLookBackLimit into its run only flags the run as too long (one read
+/// a lane), so a run of a million copies costs no more than the look backs near its start.
 __global__ void first_equal_kernel(const double2* __restrict__ sorted, const std::uint64_t* __restrict__ codes, int n,
                                    int* first, int* head, unsigned int* survey) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
