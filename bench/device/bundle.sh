@@ -16,11 +16,13 @@ build="$(realpath "${1:-$root/build-device}")"
 cd "$root"
 rm -rf .devrun
 mkdir -p .devrun
-programs=("$build/cuda_backend/expanse_bench_cuda")
 # EXPANSE_BUNDLE=bench: the CUDA benchmark alone; =cuda-tests: with the CUDA tests (timing calls
-# with a baseline; the tracked tree and the bundle together must stay under the tool's 64 MiB).
+# with a baseline); =conformance: the conformance suite alone (the tracked tree and the bundle
+# together must stay under the tool's 64 MiB).
 mode=${EXPANSE_BUNDLE:-all}
-if [[ $mode != bench ]]; then programs+=("$build/tests/cuda/expanse_cuda_tests"); fi
+programs=()
+if [[ $mode != conformance ]]; then programs+=("$build/cuda_backend/expanse_bench_cuda"); fi
+if [[ $mode != bench && $mode != conformance ]]; then programs+=("$build/tests/cuda/expanse_cuda_tests"); fi
 if [[ $mode != bench && $mode != cuda-tests ]]; then programs+=("$build/tests/expanse_conformance"); fi
 # EXPANSE_BUNDLE=cuda: the CUDA programs alone (the benchmark, its tests, the conformance suite),
 # for calls that also carry a baseline; the full bundle with one no longer fits the 64 MiB.
@@ -37,7 +39,7 @@ fi
 ../shared/device/bundle.sh "${programs[@]}" >/dev/null
 layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
 manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
-if [[ $mode != bench && $mode != cuda-tests && -f $layer && -f $manifest ]]; then  # Vulkan runs only
+if [[ ($mode == all || $mode == cuda) && -f $layer && -f $manifest ]]; then  # Vulkan runs only
   mkdir -p .devrun/layers
   strip -o .devrun/layers/libVkLayer_khronos_validation.so "$layer"
   # A relative library_path is read relative to the manifest.
