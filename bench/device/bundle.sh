@@ -16,16 +16,15 @@ build="$(realpath "${1:-$root/build-device}")"
 cd "$root"
 rm -rf .devrun
 mkdir -p .devrun
-# EXPANSE_BUNDLE=bench: the CUDA benchmark alone; =cuda-tests: with the CUDA tests (timing calls
-# with a baseline); =conformance: the conformance suite alone (the tracked tree and the bundle
-# together must stay under the tool's 64 MiB).
+# EXPANSE_BUNDLE picks the programs (the tracked tree and the bundle together must stay under the
+# tool's 64 MiB): `all` (the default) every one; `cuda` the benchmark, the CUDA tests and the
+# conformance suite; `cuda-tests` the benchmark and the CUDA tests (timing calls with a baseline);
+# `bench` the benchmark alone; `conformance` the conformance suite alone.
 mode=${EXPANSE_BUNDLE:-all}
 programs=()
 if [[ $mode != conformance ]]; then programs+=("$build/cuda_backend/expanse_bench_cuda"); fi
 if [[ $mode != bench && $mode != conformance ]]; then programs+=("$build/tests/cuda/expanse_cuda_tests"); fi
 if [[ $mode != bench && $mode != cuda-tests ]]; then programs+=("$build/tests/expanse_conformance"); fi
-# EXPANSE_BUNDLE=cuda: the CUDA programs alone (the benchmark, its tests, the conformance suite),
-# for calls that also carry a baseline; the full bundle with one no longer fits the 64 MiB.
 if [[ $mode == all ]]; then
   programs+=(
     "$build/tools/expanse"
@@ -39,7 +38,8 @@ fi
 ../shared/device/bundle.sh "${programs[@]}" >/dev/null
 layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
 manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
-if [[ ($mode == all || $mode == cuda) && -f $layer && -f $manifest ]]; then  # Vulkan runs only
+# The validation layer only where Vulkan runs (the conformance suite on Vulkan, the Vulkan tests).
+if [[ ($mode == all || $mode == cuda) && -f $layer && -f $manifest ]]; then
   mkdir -p .devrun/layers
   strip -o .devrun/layers/libVkLayer_khronos_validation.so "$layer"
   # A relative library_path is read relative to the manifest.
