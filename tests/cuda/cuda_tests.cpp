@@ -163,6 +163,14 @@ void device_preparation_case(Backend& backend, const std::string& name, const st
   }
 }
 
+/// 1000 uniform points and a cluster far finer than the quantisation: 1000 distinct points 1e-13
+/// apart that share a Morton code or two, a run too long for the merge to look back through.
+std::vector<Point2> uniform_with_fine_cluster() {
+  std::vector<Point2> points = generate_points("uniform", 1000, 15);
+  for (int k = 0; k < 1000; ++k) points.push_back({0.5 + (k % 40) * 1e-13, 0.25 + (k / 40) * 1e-13});
+  return points;
+}
+
 std::vector<Point2> square_grid(int side) {
   std::vector<Point2> p;
   for (int y = 0; y < side; ++y)
@@ -447,11 +455,9 @@ int main(int argc, char** argv) {
     std::vector<Point2> crowded = generate_points("uniform", 3000, 21);
     crowded.insert(crowded.end(), 200, crowded[11]);
     device_preparation_case(*backend, "200 copies of one point", crowded, nullptr, false);
-    // A cluster far finer than the quantisation (1000 distinct points 1e-13 apart sharing a code
-    // or two): the merge's hash tables, with no point repeating (no groups made, no scan).
-    std::vector<Point2> fine = generate_points("uniform", 1000, 15);
-    for (int k = 0; k < 1000; ++k) fine.push_back({0.5 + (k % 40) * 1e-13, 0.25 + (k / 40) * 1e-13});
-    device_preparation_case(*backend, "a cluster finer than the quantisation", fine, nullptr, false, true);
+    // The merge's hash tables, with no point repeating (no groups made, no scan).
+    device_preparation_case(*backend, "a cluster finer than the quantisation", uniform_with_fine_cluster(), nullptr,
+                            false, true);
   }
 
   {
@@ -464,11 +470,9 @@ int main(int argc, char** argv) {
     std::vector<Point2> crowded = generate_points("uniform", 1000, 14);
     crowded.insert(crowded.end(), 100, crowded[7]);
     full_pipeline_case("device preparation: 101 copies of one point", crowded, options);
-    // A cluster far finer than the quantisation (1000 distinct points, 1e-13 apart, share a
-    // Morton code or two) with 60 copies among them: the merge's hash tables for each run. The
-    // representatives must be the host preparation's, input for input.
-    std::vector<Point2> fine = generate_points("uniform", 1000, 15);
-    for (int k = 0; k < 1000; ++k) fine.push_back({0.5 + (k % 40) * 1e-13, 0.25 + (k / 40) * 1e-13});
+    // The fine cluster with 60 copies among its points: the merge's hash tables for each run.
+    // The representatives must be the host preparation's, input for input.
+    std::vector<Point2> fine = uniform_with_fine_cluster();
     for (int k = 0; k < 60; ++k) fine.push_back(fine[1000 + (k * 7) % 1000]);
     const std::string test = "device preparation: a cluster finer than the quantisation, with copies";
     full_pipeline_case(test, fine, options);
