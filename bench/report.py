@@ -111,7 +111,8 @@ def merge(data_dir, run_dirs, defaults):
                         r[field] = value
                 r.setdefault("cpu", r.get("machine", {}).get("cpu", "unknown"))
                 r["experiment"] = experiment_of(r)
-                new[r["experiment"]].append(r)
+                if r["experiment"] != "pictures":  # they name files in the run's folder
+                    new[r["experiment"]].append(r)
     Path(data_dir).mkdir(parents=True, exist_ok=True)
     for experiment, rows in sorted(new.items()):
         path = Path(data_dir) / f"{experiment}.jsonl"
@@ -188,6 +189,19 @@ def provenance(rows, what):
         line += f"; {date}, commit `{commit}`; " + "; ".join(f"`{c}`" for c in sorted(commands))
         lines.append(line)
     return "\n".join(lines)
+
+
+def style(ax, xlabel, ylabel, title, xscale=None, yscale=None):
+    """The axes every plot shares: labels, title, grid, a small legend; log scales where asked."""
+    if xscale:
+        ax.set_xscale("log", base=xscale)
+    if yscale:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6)
 
 
 def save(fig, docs, name):
@@ -276,13 +290,8 @@ def scaling_section(records, docs):
                 if pts:
                     ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=f"{l}, {h}")
         ax.axhline(1.0, color="grey", lw=0.8)
-        ax.set_xscale("log", base=2)
-        ax.set_yscale("log")
-        ax.set_xlabel("points")
-        ax.set_ylabel("speedup over CGAL")
-        ax.set_title(f"{'Fig. IV.2' if dist == 'uniform' else 'Fig. IV.3'}: {dist}", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
+        style(ax, "points", "speedup over CGAL", f"{'Fig. IV.2' if dist == 'uniform' else 'Fig. IV.3'}: {dist}",
+              xscale=2, yscale=True)
     name = save(fig, docs, "bench-speedup.png")
     text += f"\n\n![speedup over CGAL]({name})\n\n" + provenance(rows, label)
     return text
@@ -305,10 +314,7 @@ def iterations_section(records, docs):
         if "paper" in l:
             pts = sorted((math.log2(n / 256), it) for n, it in s.items() if n >= 256)
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=f"{l}, {d}, {h}")
-    ax.set_xlabel("log2(n / 256)")
-    ax.set_ylabel("front iterations")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6)
+    style(ax, "log2(n / 256)", "front iterations", "front iterations, paper layout")
     name = save(fig, docs, "bench-iterations.png")
     return (table(["machine", "implementation", "input"] + [fmt_n(n) for n in sizes], out)
             + f"\n\n![iterations]({name})\n\nThe same runs as the scaling table.")
@@ -331,12 +337,7 @@ def threads_section(records, docs):
             out.append([h, backend, device, fmt_n(n), best_t, f"{math.sqrt(n / 256):.0f}", fmt_ms(best)])
             line, = ax.plot([p[0] for p in pts], [p[1] / best for p in pts], marker="o", ms=3, label=fmt_n(n))
             ax.axvline(math.sqrt(n / 256), color=line.get_color(), ls=":", lw=1)
-        ax.set_xscale("log", base=2)
-        ax.set_xlabel("threads per block")
-        ax.set_ylabel("time / best (dotted: √(n/256))")
-        ax.set_title(f"{backend}, {device}", fontsize=8)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
+        style(ax, "threads per block", "time / best (dotted: √(n/256))", f"{backend}, {device}", xscale=2)
     name = save(fig, docs, "bench-threads.png")
     return (table(["machine", "backend", "device", "n", "best threads per block", "√(n/256)", "best ms"], out)
             + f"\n\n![Fig. IV.1]({name})\n\n" + provenance(rows, lambda r: r["backend"]))
@@ -365,13 +366,7 @@ def peers_section(records, docs):
             pts = sorted((n, median(cells[(h, d, n, l)])) for h, d, n in keys if d == dist and (h, d, n, l) in cells)
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=l)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("points")
-        ax.set_ylabel("median ms")
-        ax.set_title(dist, fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
+        style(ax, "points", "median ms", dist, xscale=10, yscale=True)
     name = save(fig, docs, "bench-peers.png")
     return ("Median ms, in brackets the ratio to CGAL on the same points (> 1: slower than CGAL).\n\n"
             + table(["machine", "input", "n"] + [f"{l}" for l in labels], out)

@@ -444,8 +444,19 @@ int main(int argc, char** argv) {
   app.add_option("--delaunator-script", config.delaunator_script, "path of bench/delaunator/run.mjs")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  // What was measured, without where it went or the free-text note.
   config.command = "expanse-bench";
-  for (int i = 1; i < argc; ++i) config.command += std::string(" ") + argv[i];
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool local = arg == "-o" || arg == "--out" || arg == "--note" || arg == "--pictures" ||
+                       arg == "--delaunator-script";
+    if (local) {
+      ++i;  // and its value
+    } else if (arg.rfind("--out=", 0) != 0 && arg.rfind("--note=", 0) != 0 &&
+               arg.rfind("--pictures=", 0) != 0 && arg.rfind("--delaunator-script=", 0) != 0) {
+      config.command += " " + arg;
+    }
+  }
 
   try {
     config.backends = bench::split_list(backends);
