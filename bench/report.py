@@ -1,20 +1,21 @@
 #!/usr/bin/env python3
-"""Turns expanse-bench JSON lines into docs/benchmarks.md tables and PNG plots.
+"""Writes docs/benchmarks.md and its plots from the data set in bench/data/.
 
-    python3 bench/report.py --results bench/results --docs docs
+    python3 bench/report.py                        # bench/data -> docs/benchmarks.md, docs/bench-*.png
+    python3 bench/report.py --merge DIR [DIR ...]  # first fold a run's JSON lines into bench/data
+    python3 bench/report.py --data DIR --docs OUT  # any folder of records (bench/run.sh --quick)
 
-Reads every *.jsonl under --results. For each experiment and machine it uses the latest run
-(run_id) and prints, with every table, the device, date, commit and machine load it was measured
-with. The method text comes from bench/benchmarks.template.md; sections without records say
-"not measured yet" instead of a number.
+bench/data holds one JSONL file per experiment: for each configuration (machine or device,
+implementation, layout, input, size) the newest measurement. --merge replaces the rows of every
+configuration a new run measured and keeps the rest. Every row carries its device, date, commit,
+command and host CPU; the page is the template bench/benchmarks.template.md with its {{KEYS}}
+replaced by tables and plots. A section without rows says "not measured".
 """
 import argparse
+import datetime
 import json
 import math
-import os
 import re
-import shutil
-import statistics
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -25,86 +26,104 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
 
 HERE = Path(__file__).resolve().parent
-NOT_MEASURED = "_Not measured yet._"
+NOT_MEASURED = "_Not measured._"
+
+# ---------------------------------------------------------------------------- records
 
 
-def load(results_dir):
-    records = []
-    for path in sorted(Path(results_dir).rglob("*.jsonl")):
-        for number, line in enumerate(path.read_text().splitlines(), 1):
-            line = line.strip()
-            if not line:
-                continue
-            try:
-                record = json.loads(line)
-            except json.JSONDecodeError as error:
-                print(f"report.py: {path}:{number}: skipped ({error})", file=sys.stderr)
-                continue
-            record["_file"] = str(path)
-            records.append(record)
+def experiment_of(r):
+    """The data file a record belongs in; the stage programs write no "experiment" field."""
+    if r.get("experiment"):
+        return r["experiment"]
+    if "side" in r:
+        return "cuda_pipeline"
+    if "transfer" in r:
+        return "cuda_transfers"
+    if r.get("benchmark") == "page_faults":
+        return "page_faults"
+    if "stages" in r and "total_ms" in r:
+        return "bench_vulkan"
+    return "other"
+
+
+def host(r):
+    return r.get("machine", {}).get("hostname", "unknown")
+
+
+def layout_of(r):
+    layout = r.get("layout")
+    return layout if isinstance(layout, dict) else {"label": layout}
+
+
+def config_key(r):
+    """What a measurement is of: a newer row with the same key replaces an older one."""
+    experiment = experiment_of(r)
+    if experiment == "cuda_pipeline":
+        return (r.get("device"), r.get("layout"), r["distribution"], r["side"], r.get("scale", 1))
+    if experiment == "cuda_transfers":
+        return (r.get("device"), r["transfer"])
+    if experiment == "page_faults":
+        return (r.get("device"), r["variant"], r["threads"], r["huge_pages"])
+    if experiment == "host_stages":
+        return (host(r), r["stage"], r["distribution"], r["n"], r["threads"])
+    if experiment == "star_work":
+        return (r["distribution"], r["n"], r.get("grid", ""), r.get("search", "rings"), r.get("budget", 0))
+    if experiment == "bench_vulkan":
+        return (r.get("device"), r["n"], r.get("distribution"), r.get("layout"), r.get("blocks"),
+                r.get("buckets"), r.get("threads"))
+    layout = layout_of(r)
+    return (host(r), r.get("backend"), r.get("device"), layout.get("label"),
+            layout.get("threads_per_block"), r.get("distribution"), r.get("n"))
+
+
+def read_jsonl(path):
+    rows = []
+    for number, line in enumerate(Path(path).read_text().splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            rows.append(json.loads(line))
+        except json.JSONDecodeError as error:
+            print(f"report.py: {path}:{number}: skipped ({error})", file=sys.stderr)
+    return rows
+
+
+def load(data_dir):
+    records = defaultdict(list)
+    for path in sorted(Path(data_dir).rglob("*.jsonl")):
+        for r in read_jsonl(path):
+            if not r.get("skipped"):
+                records[experiment_of(r)].append(r)
     return records
 
 
-def slug(text):
-    return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "unknown"
+def merge(data_dir, run_dirs, defaults):
+    """Folds the JSON lines under run_dirs into data_dir, one file per experiment: every
+    configuration the run measured loses its old rows and takes the run's (all its rounds)."""
+    new = defaultdict(list)
+    for run_dir in run_dirs:
+        for path in sorted(Path(run_dir).rglob("*.jsonl")):
+            for r in read_jsonl(path):
+                if r.get("skipped"):
+                    continue
+                for field, value in defaults.items():
+                    if not r.get(field):
+                        r[field] = value
+                r.setdefault("cpu", r.get("machine", {}).get("cpu", "unknown"))
+                r["experiment"] = experiment_of(r)
+                if r["experiment"] != "pictures":  # they name files in the run's folder
+                    new[r["experiment"]].append(r)
+    Path(data_dir).mkdir(parents=True, exist_ok=True)
+    for experiment, rows in sorted(new.items()):
+        path = Path(data_dir) / f"{experiment}.jsonl"
+        old = read_jsonl(path) if path.exists() else []
+        measured = {config_key(r) for r in rows}
+        kept = [r for r in old if config_key(r) not in measured] + rows
+        path.write_text("".join(json.dumps(r, separators=(",", ":")) + "\n" for r in kept))
+        print(f"report.py: {path}: {len(rows)} new rows, {len(kept)} in all", file=sys.stderr)
 
 
-def host(record):
-    return record.get("machine", {}).get("hostname", "unknown")
-
-
-def latest_runs(records, experiment):
-    """The newest measurement of `experiment` per machine and configuration: {hostname: [records]}.
-
-    An experiment may be run in parts (one distribution or backend per command on a device with a
-    time limit), so each (distribution, n, implementation, layout, device) keeps its newest record
-    from whichever run made it. Skip records only come from a machine's newest run, and only for
-    backends with no measurement kept.
-    """
-    by_host = defaultdict(list)
-    for r in records:
-        if r.get("experiment") == experiment:
-            by_host[host(r)].append(r)
-    result = {}
-    for hostname, rs in sorted(by_host.items()):
-        newest = {}
-        for r in rs:
-            if r.get("skipped"):
-                continue
-            key = (r["distribution"], r["n"], label(r), r.get("device", ""))
-            if key not in newest or r.get("run_id", "") > newest[key].get("run_id", ""):
-                newest[key] = r
-        kept = list(newest.values())
-        measured_backends = {r["backend"] for r in kept}
-        last_run = max(r.get("run_id", "") for r in rs)
-        kept += [r for r in rs if r.get("skipped") and r.get("run_id", "") == last_run
-                 and r["backend"] not in measured_backends]
-        result[hostname] = kept
-    return result
-
-
-def label(r):
-    """A column name: which implementation, and for GPU backends which layout."""
-    if r.get("implementation") != "expanse":
-        return r["backend"]
-    name = f"expanse {r['backend']}"
-    layout = r.get("layout")
-    if layout:
-        name += f" [{layout['label']}"
-        if layout.get("threads_per_block"):
-            name += f", T={layout['threads_per_block']}"
-        name += "]"
-    return name
-
-
-def dist_order(key):
-    """Uniform first, as in the paper, then the others by name; sizes ascending."""
-    distribution, n = key
-    return (distribution != "uniform", distribution, n)
-
-
-def median(r):
-    return r["time_ms"]["total"]["median"]
+# ---------------------------------------------------------------------------- formatting
 
 
 def fmt_ms(ms):
@@ -117,51 +136,28 @@ def fmt_ms(ms):
     return f"{ms:.2f}"
 
 
-def fmt_ratio(x):
-    if x is None:
-        return "—"
-    return f"{x:.2f}×" if x >= 0.1 else f"{x:.2g}×"
-
-
 def fmt_n(n):
     root = math.isqrt(n)
     if root * root == n and root >= 32 and (root & (root - 1)) == 0:
-        return f"{root}² = {n:,}"
+        return f"{root}²"
     return f"{n:,}"
 
 
-def provenance(run):
-    """One line naming where, when and on what every number of a table was measured."""
-    measured = [r for r in run if not r.get("skipped")]
-    if not measured:
-        skipped = sorted({f"{r['backend']} ({r.get('reason', '')})" for r in run})
-        return (f"{NOT_MEASURED[:-2]} on {host(run[0])} ({run[0].get('date', '')[:10]}, commit "
-                f"`{run[0].get('commit', 'unknown')}`): " + "; ".join(skipped) + "._")
-    first = (measured or run)[0]
-    machine = first.get("machine", {})
-    devices = sorted({r.get("device", "") for r in measured if r.get("implementation") == "expanse"})
-    dates = sorted(r.get("date", "") for r in run)
-    commits = sorted({r.get("commit", "unknown") for r in run})
-    loads = [r["machine"]["load_average"][0] for r in run
-             if r.get("machine", {}).get("load_average")]
-    text = (f"Measured on **{machine.get('hostname', '?')}** ({machine.get('cpu', '?')}, "
-            f"{machine.get('logical_cores', '?')} logical cores")
-    if devices:
-        text += "; Expanse devices: " + ", ".join(d for d in devices if d)
-    text += f"), {dates[0][:10]} ({dates[0]} – {dates[-1]}), commit `{', '.join(commits)}`"
-    if loads:
-        text += f"; 1-minute load {min(loads):.1f}–{max(loads):.1f}"
-    if first.get("note"):
-        text += f"; note: {first['note']}"
-    text += f". Warm-up {first.get('warmup', '?')}, medians of up to {max(r.get('repetitions', 0) for r in run)} repetitions."
-    skipped = sorted({f"{r['backend']} ({r.get('reason', '')})" for r in run if r.get("skipped")})
-    if skipped:
-        text += " Skipped: " + "; ".join(skipped) + "."
-    disagree = sorted({f"{label(r)} at {r['distribution']} n={r['n']}" for r in measured
-                       if r.get("triangles_agree") is False})
-    text += (" **Triangle counts disagree:** " + "; ".join(disagree) + "." if disagree
-             else " Every implementation made the same number of triangles on the same points.")
-    return text
+def fmt_share(x):
+    return "0" if not x else f"{100 * x:.2g}%"
+
+
+def short(commit):
+    commit = str(commit or "unknown")
+    return commit if commit == "unknown" else re.sub(r"^([0-9a-f]{7})[0-9a-f]*", r"\1", commit)
+
+
+def day(r):
+    return str(r.get("date", "unknown"))[:10]
+
+
+def median(r):
+    return r["time_ms"]["total"]["median"]
 
 
 def table(header, rows):
@@ -170,372 +166,411 @@ def table(header, rows):
     return "\n".join(lines)
 
 
+def label(r):
+    """An implementation's name: Expanse's backend and layout, or the peer."""
+    if r.get("implementation") != "expanse":
+        return r["backend"]
+    layout = layout_of(r).get("label")
+    return f"{r['backend']} [{layout}]" if layout else r["backend"]
+
+
+def provenance(rows, what):
+    """Where, when, on what and by which command the rows of a table were measured."""
+    groups = defaultdict(set)
+    for r in rows:
+        # One line for the rows a command made with one size or input each.
+        command = re.sub(r"( -n| --n| --dist| --threads) [^\s,]+(?=\s|$)", "", r.get("command", "unknown"))
+        groups[(what(r), r.get("device", "unknown"), r.get("cpu", "unknown"), day(r), short(r.get("commit")))].add(command)
+    lines = []
+    for (name, device, cpu, date, commit), commands in sorted(groups.items()):
+        line = f"- {name}: {device}"
+        if cpu and cpu not in device:
+            line += f", host CPU {cpu}"
+        line += f"; {date}, commit `{commit}`; " + "; ".join(f"`{c}`" for c in sorted(commands))
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def style(ax, xlabel, ylabel, title, xscale=None, yscale=None):
+    """The axes every plot shares: labels, title, grid, a small legend; log scales where asked."""
+    if xscale:
+        ax.set_xscale("log", base=xscale)
+    if yscale:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6)
+
+
 def save(fig, docs, name):
     fig.tight_layout()
-    fig.savefig(docs / name, dpi=110)
+    fig.savefig(docs / name, dpi=72)
     plt.close(fig)
     return name
 
 
-# ---------------------------------------------------------------------------- peers
+# ---------------------------------------------------------------------------- CUDA pipeline
 
 
-def peers_section(records, docs):
-    runs = latest_runs(records, "peers")
-    if not runs:
+def gpu_only(r):
+    """The pipeline's device stages without the transfers (the device's own preparation included)."""
+    stages = r.get("pipeline_device_stages_ms") or r.get("device_stages_ms") or {}
+    return sum(v for k, v in stages.items() if k not in ("upload", "download"))
+
+
+def cuda_section(records):
+    rows = records.get("cuda_pipeline", [])
+    if not rows:
         return NOT_MEASURED
+    cells = defaultdict(list)
+    for r in rows:
+        cells[(r["device"], r["distribution"], r["side"])].append(r)
+    order = {"uniform": 0, "gaussian": 1, "grid": 2, "kuzmin": 3}
     out = []
-    for hostname, run in runs.items():
-        measured = [r for r in run if not r.get("skipped")]
-        labels = []
-        for r in measured:
-            if label(r) not in labels:
-                labels.append(label(r))
-        cells = {(r["distribution"], r["n"], label(r)): r for r in measured}
-        keys = sorted({(r["distribution"], r["n"]) for r in measured}, key=dist_order)
-        out.append(f"### {hostname}\n\n{provenance(run)}\n")
-        header = ["distribution", "n"] + [f"{l} ms" for l in labels] + \
-                 [f"{l} / CGAL" for l in labels if l != "cgal"]
-        rows = []
-        for dist, n in keys:
-            cgal = cells.get((dist, n, "cgal"))
-            row = [dist, fmt_n(n)]
+    for (device, dist, side), rs in sorted(cells.items(), key=lambda kv: (kv[0][0], kv[0][2], order.get(kv[0][1], 9))):
+        rs.sort(key=lambda r: r.get("round", 1))
+        joined = lambda f: " / ".join(fmt_ms(f(r)) for r in rs)  # noqa: E731
+        out.append([device, dist, fmt_n(side * side), joined(lambda r: r.get("host_to_host_ms")),
+                    joined(lambda r: r.get("host_to_host_reused_ms")), joined(gpu_only),
+                    joined(lambda r: (r.get("pipeline_device_stages_ms") or {}).get("stars")),
+                    f"{rs[-1]['deferred']:,}", fmt_share(rs[-1].get("seam_share"))])
+    text = ("Each cell lists every round of the run (medians of `--reps` repetitions after a warm-up).\n\n"
+            + table(["device", "input", "n", "host to host ms", "into a kept mesh ms", "GPU-only ms",
+                     "stars ms", "sites deferred", "seam share"], out))
+    return text + "\n\n" + provenance(rows, lambda r: "expanse_bench_cuda")
+
+
+def cuda_transfers_section(records):
+    rows = records.get("cuda_transfers", [])
+    if not rows:
+        return NOT_MEASURED
+    out = [[r["transfer"], f"{r.get('bytes', 0) / 1e6:,.0f}" if r.get("bytes") else "—",
+            fmt_ms(r["median_ms"]), f"{r['gb_per_s']:.1f}" if r.get("gb_per_s") else "—"] for r in rows]
+    return table(["transfer", "MB", "median ms", "GB/s"], out) + "\n\n" + provenance(rows, lambda r: "transfers")
+
+
+# ---------------------------------------------------------------------------- expanse-bench experiments
+
+
+def dist_order(dist):
+    return (dist != "uniform", dist)
+
+
+def scaling_section(records, docs):
+    rows = [r for r in records.get("scaling", []) if r.get("time_ms")]
+    if not rows:
+        return NOT_MEASURED
+    labels = sorted({label(r) for r in rows}, key=lambda l: (l not in ("cpu", "cgal"), l))
+    cells = {(host(r), r["distribution"], r["n"], label(r)): r for r in rows}
+    keys = sorted({(host(r), r["distribution"], r["n"]) for r in rows},
+                  key=lambda k: (k[0], dist_order(k[1]), k[2]))
+    out = []
+    for h, dist, n in keys:
+        row = [h, dist, fmt_n(n)]
+        for l in labels:
+            r = cells.get((h, dist, n, l))
+            row.append(fmt_ms(median(r)) if r else "—")
+        out.append(row)
+    text = ("Host to host (points in, mesh with neighbours out), median ms.\n\n"
+            + table(["machine", "input", "n"] + [f"{l} ms" for l in labels], out))
+
+    # Figs. IV.2 and IV.3: speedup of each GPU backend over CGAL on the same machine and points.
+    dists = sorted({r["distribution"] for r in rows}, key=dist_order)
+    fig, axes = plt.subplots(1, len(dists), figsize=(5 * len(dists), 3.4), squeeze=False)
+    for ax, dist in zip(axes[0], dists):
+        for h in sorted({k[0] for k in keys}):
             for l in labels:
-                r = cells.get((dist, n, l))
-                if r:
-                    t = r["time_ms"]["total"]
-                    row.append(f"{fmt_ms(t['median'])} ({fmt_ms(t['min'])}–{fmt_ms(t['max'])})")
-                else:
-                    row.append("—")
-            for l in labels:
-                if l == "cgal":
+                if l in ("cpu", "cgal"):
                     continue
-                r = cells.get((dist, n, l))
-                row.append(fmt_ratio(median(r) / median(cgal)) if r and cgal else "—")
-            rows.append(row)
-        out.append("Times in ms: median (min–max). Ratios > 1 mean slower than CGAL.\n")
-        out.append(table(header, rows))
-
-        # Where the time goes, at the largest size: the stages each implementation reports.
-        largest = max(n for _, n in keys)
-        stage_rows = []
-        for dist in sorted({d for d, _ in keys}, key=lambda d: dist_order((d, 0))):
-            for l in labels:
-                r = cells.get((dist, largest, l))
-                if r and r.get("stages_ms"):
-                    stages = ", ".join(f"{k} {fmt_ms(v)}" for k, v in r["stages_ms"].items())
-                    device = r.get("device_stages_ms") or {}
-                    if device:
-                        stages += "; device: " + ", ".join(f"{k} {fmt_ms(v)}" for k, v in device.items())
-                    stage_rows.append([dist, l, fmt_ms(median(r)), stages])
-        if stage_rows:
-            out.append(f"\nStages at n = {fmt_n(largest)} (median ms of each stage):\n")
-            out.append(table(["distribution", "implementation", "total ms", "stages"], stage_rows))
-
-        # Issue 2, item 11: the CPU backend within 2x of CGAL at 1M uniform sites.
-        cpu = cells.get(("uniform", 1000000, "expanse cpu"))
-        cgal = cells.get(("uniform", 1000000, "cgal"))
-        if cpu and cgal:
-            ratio = median(cpu) / median(cgal)
-            verdict = "meets" if ratio <= 2.0 else "does **not** meet"
-            fastest = cpu["time_ms"]["total"]["min"] / cgal["time_ms"]["total"]["min"]
-            out.append(f"\nCPU backend vs CGAL at 1,000,000 uniform sites: {fmt_ms(median(cpu))} ms "
-                       f"vs {fmt_ms(median(cgal))} ms = **{ratio:.2f}×** (medians), which {verdict} "
-                       f"the ≤ 2× target of issue 2 (item 11). Fastest run against fastest run "
-                       f"(the least disturbed by other jobs): {fastest:.2f}×.")
-
-        dists = sorted({d for d, _ in keys}, key=lambda d: dist_order((d, 0)))
-        fig, axes = plt.subplots(1, len(dists), figsize=(6 * len(dists), 4.5), squeeze=False)
-        for ax, dist in zip(axes[0], dists):
-            for l in labels:
-                pts = sorted((n, median(cells[(d, n, l)])) for d, n in keys
-                             if d == dist and (d, n, l) in cells)
+                pts = [(n, median(cells[(h, dist, n, "cgal")]) / median(cells[(h, dist, n, l)]))
+                       for hh, d, n in keys if hh == h and d == dist
+                       and (h, dist, n, l) in cells and (h, dist, n, "cgal") in cells]
                 if pts:
-                    ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=l)
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xlabel("points")
-            ax.set_ylabel("median time (ms)")
-            ax.set_title(f"{dist} — {hostname}")
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=8)
-        name = save(fig, docs, f"bench-peers-{slug(hostname)}.png")
-        out.append(f"\n![peers on {hostname}]({name})\n")
-    return "\n".join(out)
-
-
-# ---------------------------------------------------------------------------- Fig. IV.1
-
-
-def threads_section(records, docs):
-    runs = latest_runs(records, "threads")
-    out = []
-    for hostname, run in runs.items():
-        measured = [r for r in run if not r.get("skipped") and r.get("layout")]
-        if not measured:
-            out.append(f"### {hostname}\n\n{provenance(run)}")
-            continue
-        out.append(f"### {hostname}\n\n{provenance(run)}\n")
-        series = defaultdict(list)
-        for r in measured:
-            series[(r["backend"], r.get("device", ""), r["layout"]["label"])].append(r)
-        rows = []
-        fig, axes = plt.subplots(1, len(series), figsize=(6 * len(series), 4.5), squeeze=False)
-        for ax, ((backend, device, layout), rs) in zip(axes[0], sorted(series.items())):
-            by_n = defaultdict(list)
-            for r in rs:
-                by_n[r["n"]].append((r["layout"]["threads_per_block"], median(r)))
-            for n, pts in sorted(by_n.items()):
-                pts.sort()
-                best_t, best = min(pts, key=lambda p: p[1])
-                line, = ax.plot([p[0] for p in pts], [p[1] / best for p in pts], marker="o",
-                                label=f"n = {fmt_n(n)}")
-                ax.axvline(math.sqrt(n / 256), color=line.get_color(), ls=":", lw=1)
-                rows.append([backend, device, layout, fmt_n(n), best_t,
-                             f"{math.sqrt(n / 256):.0f}", fmt_ms(best)])
-            ax.set_xscale("log", base=2)
-            ax.set_xlabel("threads per block")
-            ax.set_ylabel("time / best time (dotted: √(n/256))")
-            ax.set_title(f"Fig. IV.1 — {backend} on {device} ({layout} layout)", fontsize=9)
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=8)
-        name = save(fig, docs, f"bench-fig-iv1-{slug(hostname)}.png")
-        out.append(table(["backend", "device", "layout", "n", "best T measured", "√(n/256)",
-                          "best median ms"], rows))
-        out.append(f"\n![Fig. IV.1 on {hostname}]({name})\n")
-    return "\n".join(out) if out else NOT_MEASURED
-
-
-# ---------------------------------------------------------------------------- Figs. IV.2 / IV.3
-
-
-def scaling_section(records, docs, distribution, figure):
-    runs = latest_runs(records, "scaling")
-    out = []
-    for hostname, run in runs.items():
-        run = [r for r in run if r.get("distribution") == distribution]
-        if not run:
-            continue
-        measured = [r for r in run if not r.get("skipped")]
-        gpu = sorted({label(r) for r in measured
-                      if r.get("implementation") == "expanse" and r["backend"] != "cpu"})
-        cells = {(r["n"], label(r)): r for r in measured}
-        sizes = sorted({r["n"] for r in measured})
-        out.append(f"### {hostname}\n\n{provenance(run)}\n")
-        header = ["n", "expanse cpu ms", "cgal ms"]
-        for g in gpu:
-            header += [f"{g} ms", "GPU-only ms", "vs cpu", "vs CGAL", "seam share"]
-        rows = []
-        for n in sizes:
-            cpu, cgal = cells.get((n, "expanse cpu")), cells.get((n, "cgal"))
-            row = [fmt_n(n), fmt_ms(median(cpu)) if cpu else "—", fmt_ms(median(cgal)) if cgal else "—"]
-            for g in gpu:
-                r = cells.get((n, g))
-                if not r:
-                    row += ["—"] * 5
-                    continue
-                device = r["time_ms"].get("device")
-                row += [fmt_ms(median(r)), fmt_ms(device["median"]) if device else "—",
-                        fmt_ratio(median(cpu) / median(r)) if cpu else "—",
-                        fmt_ratio(median(cgal) / median(r)) if cgal else "—",
-                        f"{100 * r.get('seam_share', 0):.1f}%"]
-            rows.append(row)
-        if not gpu:
-            out.append("No GPU backend ran here, so there is no speedup to show; the CPU times "
-                       "below are the baselines the GPU numbers will be divided into.\n")
-            cpu_rows = [[fmt_n(n), fmt_ms(median(cells[(n, 'expanse cpu')])) if (n, 'expanse cpu') in cells else "—",
-                         fmt_ms(median(cells[(n, 'cgal')])) if (n, 'cgal') in cells else "—"] for n in sizes]
-            out.append(table(["n", "expanse cpu ms", "cgal ms"], cpu_rows))
-            continue
-        out.append("Speedup = baseline time / GPU backend time, host to host (points in, mesh out). "
-                   "GPU-only: the sum of the device-timed stages.\n")
-        out.append(table(header, rows))
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        for index, g in enumerate(gpu):
-            colour = f"C{index}"  # one colour per backend and layout; dashed: over CGAL
-            for base, style in (("expanse cpu", "-"), ("cgal", "--")):
-                pts = [(n, median(cells[(n, base)]) / median(cells[(n, g)])) for n in sizes
-                       if (n, g) in cells and (n, base) in cells]
-                if pts:
-                    ax.plot([p[0] for p in pts], [p[1] for p in pts], style, marker="o",
-                            color=colour,
-                            label=f"{g} vs {'sequential' if base == 'expanse cpu' else 'CGAL'}")
+                    ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=f"{l}, {h}")
         ax.axhline(1.0, color="grey", lw=0.8)
-        ax.set_xscale("log", base=2)
-        ax.set_yscale("log")  # speedups below and above 1 span decades
-        ax.set_xlabel("points")
-        ax.set_ylabel("speedup")
-        ax.set_title(f"{figure} — {distribution} — {hostname}", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
-        name = save(fig, docs, f"bench-{slug(figure)}-{distribution}-{slug(hostname)}.png")
-        out.append(f"\n![{figure} on {hostname}]({name})\n")
-    return "\n".join(out) if out else NOT_MEASURED
+        style(ax, "points", "speedup over CGAL", f"{'Fig. IV.2' if dist == 'uniform' else 'Fig. IV.3'}: {dist}",
+              xscale=2, yscale=True)
+    name = save(fig, docs, "bench-speedup.png")
+    text += f"\n\n![speedup over CGAL]({name})\n\n" + provenance(rows, label)
+    return text
 
 
 def iterations_section(records, docs):
-    runs = latest_runs(records, "scaling")
+    rows = [r for r in records.get("scaling", []) if r.get("implementation") == "expanse"
+            and r["backend"] != "cpu" and r.get("iterations") is not None]
+    if not rows:
+        return NOT_MEASURED
+    series = defaultdict(dict)
+    for r in rows:
+        series[(host(r), label(r), r["distribution"])][r["n"]] = r["iterations"]
+    sizes = sorted({r["n"] for r in rows})
+    out = [[h, l, d] + [s.get(n, "—") for n in sizes] for (h, l, d), s in sorted(series.items())]
+    fig, ax = plt.subplots(figsize=(6, 3.4))
+    xs = [math.log2(n / 256) for n in sizes if n >= 256]
+    ax.plot(xs, xs, color="grey", lw=0.8, label="log2(n/256) (paper)")
+    for (h, l, d), s in sorted(series.items()):
+        if "paper" in l:
+            pts = sorted((math.log2(n / 256), it) for n, it in s.items() if n >= 256)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=f"{l}, {d}, {h}")
+    style(ax, "log2(n / 256)", "front iterations", "front iterations, paper layout")
+    name = save(fig, docs, "bench-iterations.png")
+    return (table(["machine", "implementation", "input"] + [fmt_n(n) for n in sizes], out)
+            + f"\n\n![iterations]({name})\n\nThe same runs as the scaling table.")
+
+
+def threads_section(records, docs):
+    rows = [r for r in records.get("threads", []) if r.get("time_ms")]
+    if not rows:
+        return NOT_MEASURED
+    series = defaultdict(lambda: defaultdict(list))
+    for r in rows:
+        series[(host(r), r["backend"], r.get("device", ""))][r["n"]].append(
+            (layout_of(r).get("threads_per_block"), median(r)))
     out = []
-    for hostname, run in runs.items():
-        measured = [r for r in run if not r.get("skipped") and r.get("implementation") == "expanse"
-                    and r["backend"] != "cpu"]
-        if not measured:
-            continue
-        out.append(f"### {hostname}\n\n{provenance(run)}\n")
-        labels = sorted({(r["distribution"], label(r)) for r in measured})
-        cells = {(r["distribution"], label(r), r["n"]): r["iterations"] for r in measured}
-        sizes = sorted({r["n"] for r in measured})
-        header = ["n", "log2(n/256)"] + [f"{l} ({d})" for d, l in labels]
-        rows = [[fmt_n(n), f"{math.log2(n / 256):.0f}"] +
-                [cells.get((d, l, n), "—") for d, l in labels] for n in sizes]
-        out.append(table(header, rows))
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        xs = [math.log2(n / 256) for n in sizes]
-        ax.plot(xs, xs, color="grey", lw=0.8, label="log2(n/256) (paper)")
-        for d, l in labels:
-            pts = [(math.log2(n / 256), cells[(d, l, n)]) for n in sizes if (d, l, n) in cells]
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=f"{l} ({d})")
-        ax.set_xlabel("log2(n / 256)")
-        ax.set_ylabel("front iterations")
-        ax.set_title(f"Iterations — {hostname}", fontsize=9)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-        name = save(fig, docs, f"bench-iterations-{slug(hostname)}.png")
-        out.append(f"\n![iterations on {hostname}]({name})\n")
-    return "\n".join(out) if out else NOT_MEASURED
+    fig, axes = plt.subplots(1, len(series), figsize=(4 * len(series), 3.2), squeeze=False)
+    for ax, ((h, backend, device), by_n) in zip(axes[0], sorted(series.items())):
+        for n, pts in sorted(by_n.items()):
+            pts.sort()
+            best_t, best = min(pts, key=lambda p: p[1])
+            out.append([h, backend, device, fmt_n(n), best_t, f"{math.sqrt(n / 256):.0f}", fmt_ms(best)])
+            line, = ax.plot([p[0] for p in pts], [p[1] / best for p in pts], marker="o", ms=3, label=fmt_n(n))
+            ax.axvline(math.sqrt(n / 256), color=line.get_color(), ls=":", lw=1)
+        style(ax, "threads per block", "time / best (dotted: √(n/256))", f"{backend}, {device}", xscale=2)
+    name = save(fig, docs, "bench-threads.png")
+    return (table(["machine", "backend", "device", "n", "best threads per block", "√(n/256)", "best ms"], out)
+            + f"\n\n![Fig. IV.1]({name})\n\n" + provenance(rows, lambda r: r["backend"]))
+
+
+def peers_section(records, docs):
+    rows = [r for r in records.get("peers", []) if r.get("time_ms")]
+    if not rows:
+        return NOT_MEASURED
+    labels = sorted({label(r) for r in rows}, key=lambda l: (l != "cgal", l))
+    cells = {(host(r), r["distribution"], r["n"], label(r)): r for r in rows}
+    keys = sorted({(host(r), r["distribution"], r["n"]) for r in rows}, key=lambda k: (k[0], dist_order(k[1]), k[2]))
+    out = []
+    for h, dist, n in keys:
+        cgal = cells.get((h, dist, n, "cgal"))
+        row = [h, dist, fmt_n(n)]
+        for l in labels:
+            r = cells.get((h, dist, n, l))
+            ratio = f" ({median(r) / median(cgal):.2f}×)" if r and cgal and l != "cgal" else ""
+            row.append(fmt_ms(median(r)) + ratio if r else "—")
+        out.append(row)
+    dists = sorted({k[1] for k in keys}, key=dist_order)
+    fig, axes = plt.subplots(1, len(dists), figsize=(5 * len(dists), 3.4), squeeze=False)
+    for ax, dist in zip(axes[0], dists):
+        for l in labels:
+            pts = sorted((n, median(cells[(h, d, n, l)])) for h, d, n in keys if d == dist and (h, d, n, l) in cells)
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", ms=3, label=l)
+        style(ax, "points", "median ms", dist, xscale=10, yscale=True)
+    name = save(fig, docs, "bench-peers.png")
+    return ("Median ms, in brackets the ratio to CGAL on the same points (> 1: slower than CGAL).\n\n"
+            + table(["machine", "input", "n"] + [f"{l}" for l in labels], out)
+            + f"\n\n![peers]({name})\n\n" + provenance(rows, label))
+
+
+def lavapipe_section(records):
+    rows = [r for r in records.get("lavapipe_1m", []) if r.get("time_ms")]
+    if not rows:
+        return NOT_MEASURED
+    runs = defaultdict(dict)
+    for r in rows:
+        runs[(day(r), short(r["commit"]), r["distribution"], r.get("note", ""))][r["backend"]] = r
+    out = []
+    for (date, commit, dist, note), by in sorted(runs.items()):
+        v, c = by.get("vulkan"), by.get("cgal")
+        out.append([date, f"`{commit}`", dist, note or "—", fmt_ms(median(v)) if v else "—",
+                    fmt_ms(median(c)) if c else "not run", f"{median(v) / median(c):.2f}×" if v and c else "—",
+                    fmt_share(v.get("seam_share")) if v else "—"])
+    return (table(["date", "commit", "input", "round", "lavapipe ms", "CGAL ms (same round)", "ratio",
+                   "seam share"], out) + "\n\n" + provenance(rows, lambda r: r["backend"]))
 
 
 def star_work_section(records):
-    """The CUDA per-site kernel's work, counted on the CPU (bench/src/star_work.cpp)."""
-    by_host = defaultdict(dict)
-    for r in records:
-        if r.get("experiment") != "star_work":
-            continue
-        key = (r["distribution"], r["n"], r.get("grid", ""), r.get("search", "rings"), r.get("budget", 0))
-        kept = by_host[host(r)]
-        if key not in kept or r.get("run_id", "") > kept[key].get("run_id", ""):
-            kept[key] = r
+    rows = records.get("star_work", [])
+    if not rows:
+        return NOT_MEASURED
     out = []
-    for hostname, kept in sorted(by_host.items()):
-        run = sorted(kept.values(), key=lambda r: (dist_order((r["distribution"], r["n"])), r.get("grid", ""),
-                                                   r.get("search", "rings")))
-        first = run[0]
-        machine = first.get("machine", {})
-        dates = sorted(r.get("date", "") for r in run)
-        commits = sorted({r.get("commit", "unknown") for r in run})
-        out.append(f"### {hostname}\n\nCounted on **{hostname}** ({machine.get('cpu', '?')}), "
-                   f"{dates[0][:10]}, commit `{', '.join(commits)}`. Counts, not times: they do "
-                   f"not depend on the machine or its load.\n")
-        rows = []
-        for r in run:
-            reasons = [f"{r[k]} {name}" for k, name in (("deferred_undecided", "undecided/budget"),
-                                                          ("deferred_full_row", "full row"),
-                                                          ("deferred_no_apex", "no apex")) if r.get(k)]
-            share = r["deferred"] / r["sites"] if r["sites"] else 0.0
-            # Records from before the box scans (star_scan.cuh) have no "search": they are rings.
-            # Lane shares came with session 4's records; older ones have none.
-            lanes = (f"{r['lane_share_8']:.2f} / {r['lane_share_32']:.2f}" if "lane_share_8" in r else "–")
-            rows.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), r.get("search", "rings"),
-                         f"{r.get('budget', 0):,}", f"{r['predicates_per_site']:.1f}",
-                         f"{r['work_per_site']:.1f}", f"{r['max_work']:,}", f"{r['sites_over_4096']:,}",
-                         f"{r['deferred']:,} ({share:.3%})" + (f": {', '.join(reasons)}" if reasons else ""),
-                         lanes])
-        out.append(table(["distribution", "n", "grid", "search", "budget", "predicates / site",
-                          "cells + sites / site", "max one site", "sites > 4096", "sites deferred",
-                          "lane share 8 / 32"], rows))
-    return "\n".join(out) if out else NOT_MEASURED
+    for r in sorted(rows, key=lambda r: (dist_order(r["distribution"]), r["n"], r.get("grid", ""),
+                                         r.get("search", "rings"), r.get("budget", 0))):
+        share = r["deferred"] / r["sites"] if r.get("sites") else 0.0
+        out.append([r["distribution"], fmt_n(r["n"]), r.get("grid", ""), r.get("search", "rings"),
+                    f"{r.get('budget', 0):,}", f"{r['predicates_per_site']:.1f}", f"{r['work_per_site']:.1f}",
+                    f"{r['max_work']:,}", f"{r['deferred']:,} ({share:.3%})"])
+    return ("Counts, not times: they do not depend on the machine or its load.\n\n"
+            + table(["input", "n", "grid", "search", "budget", "predicates / site", "cells + sites / site",
+                     "max one site", "sites deferred"], out)
+            + "\n\n" + provenance(rows, lambda r: "expanse-bench-star-work"))
 
 
-def picture_file(r):
-    """The picture a record names, also when its results folder was made on another machine
-    and copied here (the record holds that machine's absolute path)."""
-    if not r.get("picture"):
-        return None
-    for candidate in (Path(r["picture"]), Path(r["_file"]).parent / "pictures" / Path(r["picture"]).name):
-        if candidate.exists():
-            return candidate
-    return None
+def host_stages_section(records):
+    rows = records.get("host_stages", [])
+    if not rows:
+        return NOT_MEASURED
+    out = [[r["stage"], r["distribution"], fmt_n(r["n"]), r["threads"], fmt_ms(r["median_ms"]),
+            f"{fmt_ms(r['min_ms'])}–{fmt_ms(r['max_ms'])}"] for r in rows]
+    return (table(["stage", "input", "n", "threads", "median ms", "min–max"], out)
+            + "\n\n" + provenance(rows, lambda r: "expanse-bench-host-stages"))
 
 
-def pictures_section(records, docs):
-    runs = latest_runs(records, "pictures")
+def page_faults_section(records):
+    rows = records.get("page_faults", [])
+    if not rows:
+        return NOT_MEASURED
+    huge = {-1: "—", 0: "no", 1: "yes"}
+    out = [[r["variant"], r["threads"], huge.get(r["huge_pages"], r["huge_pages"]), fmt_ms(r["median_ms"]),
+            f"{r['gb_per_s']:.1f}"] for r in sorted(rows, key=lambda r: (r["variant"], r["huge_pages"], r["threads"]))]
+    return (f"{rows[0].get('mib', '?')} MiB of fresh storage.\n\n"
+            + table(["variant", "threads", "huge pages", "median ms", "GB/s"], out)
+            + "\n\n" + provenance(rows, lambda r: "expanse-bench-page-faults"))
+
+
+def bench_vulkan_section(records):
+    rows = [r for r in records.get("bench_vulkan", [])]
+    if not rows:
+        return NOT_MEASURED
+    out = [[f"{r['n']:,}", r["distribution"], r.get("layout"), r.get("blocks") or "default",
+            r.get("threads") or "default", fmt_ms(r["total_ms"]),
+            fmt_ms((r.get("device_stages") or {}).get("vulkan: stars")), fmt_share(r.get("seam_share"))]
+           for r in rows]
+    return ("The second run of each configuration (the first pays device start-up).\n\n"
+            + table(["n", "input", "layout", "blocks a side", "threads per block", "total ms", "star shader ms",
+                     "seam share"], out)
+            + "\n\n" + provenance(rows, lambda r: "expanse_vulkan_bench"))
+
+
+# ---------------------------------------------------------------------------- targets
+
+
+def verdict(ok):
+    return "met" if ok else "**not met**"
+
+
+def targets_section(records):
+    """The issues' targets against the data set's current numbers."""
     out = []
-    for hostname, run in runs.items():
-        pictured = [r for r in run if picture_file(r)]
-        if not pictured:
-            continue
-        out.append(f"### {hostname}\n\n{provenance(run)}\n")
-        rows = []
-        for r in sorted(pictured, key=lambda r: (dist_order((r["distribution"], r["n"])), label(r))):
-            name = f"bench-{slug(hostname)}-{Path(r['picture']).name}"
-            shutil.copyfile(picture_file(r), docs / name)
-            note = r.get("picture_note", "unfilled: GPU front growth; filled orange: CPU seam stage")
-            rows.append([r["distribution"], fmt_n(r["n"]), label(r),
-                         f"{100 * r.get('seam_share', 0):.1f}%", note, f"![]({name})"])
-        out.append(table(["distribution", "n", "backend", "seam share", "colours", "picture"], rows))
-    return "\n".join(out) if out else NOT_MEASURED
+    peers = {(host(r), r["distribution"], r["n"], label(r)): r for r in records.get("peers", []) if r.get("time_ms")}
+    for (h, dist, n, l), cpu in sorted(peers.items()):
+        cgal = peers.get((h, dist, n, "cgal"))
+        if l == "cpu" and dist == "uniform" and n == 1000000 and cgal:
+            ratio = median(cpu) / median(cgal)
+            out.append(["CPU backend vs CGAL, 10⁶ uniform (issue 2)", "≤ 2×",
+                        f"{fmt_ms(median(cpu))} vs {fmt_ms(median(cgal))} ms = {ratio:.2f}× ({cpu.get('cpu')}, {day(cpu)})",
+                        verdict(ratio <= 2)])
+
+    cuda = defaultdict(list)
+    for r in records.get("cuda_pipeline", []):
+        if "H100" in r.get("device", ""):
+            cuda[(r["distribution"], r["side"])].append(r)
+    if cuda:
+        any_row = next(iter(cuda.values()))[0]
+        where = f"H100, {day(any_row)}, `{short(any_row.get('commit'))}`"
+        uniform = cuda.get(("uniform", 4096), [])
+        if uniform:
+            h2h = [r["host_to_host_ms"] for r in uniform]
+            out.append(["CUDA 4096² uniform, host to host (issue 4)", "≤ 170 ms",
+                        " / ".join(fmt_ms(x) for x in h2h) + f" ms ({where})", verdict(max(h2h) <= 170)])
+            g = [gpu_only(r) for r in uniform]
+            out.append(["CUDA 4096² uniform, GPU-only (issue 4)", "≤ 30 ms",
+                        " / ".join(f"{x:.2f}" for x in g) + f" ms ({where})", verdict(max(g) <= 30)])
+            for measure, name in ((lambda r: r["host_to_host_ms"], "host to host"), (gpu_only, "GPU-only")):
+                ratios = []
+                for dist in ("gaussian", "grid", "kuzmin"):
+                    rs = cuda.get((dist, 4096), [])
+                    if rs:
+                        ratios.append((dist, [measure(a) / measure(b) for a, b in zip(rs, uniform)]))
+                if ratios:
+                    worst = max(max(v) for _, v in ratios)
+                    out.append([f"CUDA gaussian / grid / kuzmin against uniform at 4096², {name} (issue 4)", "≤ 1.5×",
+                                "; ".join(f"{d} " + " / ".join(f"{x:.3f}×" for x in v) for d, v in ratios) + f" ({where})",
+                                verdict(worst <= 1.5)])
+        small = cuda.get(("uniform", 512), [])
+        if small:
+            g = [gpu_only(r) for r in small]
+            out.append(["CUDA 512² uniform, GPU-only (issue 4)", "≤ 4 ms", " / ".join(f"{x:.2f}" for x in g) + f" ms ({where})",
+                        verdict(max(g) <= 4)])
+        shares = [r.get("seam_share", 0) for rs in cuda.values() for r in rs]
+        out.append(["CUDA seam share, every input and size measured (issue 4)", "≤ 0.1%",
+                    f"at most {fmt_share(max(shares))} ({where})", verdict(max(shares) <= 0.001)])
+
+    scaling = [r for r in records.get("scaling", []) if r.get("time_ms")]
+    vk = [r for r in scaling if r["backend"] == "vulkan" and layout_of(r).get("label") == "default"
+          and r["n"] == 1024 * 1024 and "H100" in r.get("device", "")]
+    if vk:
+        shares = ", ".join(f"{r['distribution']} {fmt_share(r.get('seam_share'))}" for r in sorted(vk, key=lambda r: dist_order(r["distribution"])))
+        out.append(["Vulkan seam share, 1024² uniform / gaussian (issue 3)", "< 1%",
+                    f"{shares} (H100, {day(vk[0])}, `{short(vk[0]['commit'])}`)",
+                    verdict(max(r.get("seam_share", 0) for r in vk) < 0.01)])
+    lava = defaultdict(dict)
+    for r in records.get("lavapipe_1m", []):
+        if r["distribution"] == "uniform" and r.get("time_ms"):
+            lava[(r["run_id"][:16], r.get("note", ""), day(r), short(r["commit"]))][r["backend"]] = r
+    paired = [(k, v) for k, v in sorted(lava.items()) if "vulkan" in v and "cgal" in v]
+    if paired:
+        ratios = [median(v["vulkan"]) / median(v["cgal"]) for _, v in paired]
+        k = paired[-1][0]
+        out.append(["Vulkan on lavapipe, 10⁶ uniform (issue 3)", "< CGAL",
+                    " / ".join(f"{x:.2f}×" for x in ratios) + f" of CGAL, rounds alternated in one run "
+                    f"({paired[-1][1]['vulkan'].get('cpu')}, {k[2]}, `{k[3]}`)", verdict(max(ratios) < 1)])
+    pair = {(r["backend"]): r for r in scaling if host(r) == "h100-host" and r["distribution"] == "uniform"
+            and r["n"] == 4096 * 4096 and layout_of(r).get("label") == "default"}
+    if "vulkan" in pair and "cuda" in pair:
+        ratio = median(pair["vulkan"]) / median(pair["cuda"])
+        out.append(["Vulkan vs CUDA on the H100, 4096² uniform, host to host (issue 3)", "≤ 1.5×",
+                    f"{fmt_ms(median(pair['vulkan']))} vs {fmt_ms(median(pair['cuda']))} ms = {ratio:.2f}× "
+                    f"({day(pair['vulkan'])}, `{short(pair['vulkan']['commit'])}`)", verdict(ratio <= 1.5)])
+    return table(["target", "goal", "current numbers", "status"], out) if out else NOT_MEASURED
 
 
-# The targets issue 5 asks for; each is either backed by records or says it is not measured.
-TARGETS = [
-    ("CUDA (H100 wanted)", lambda r: r["backend"] == "cuda"),
-    ("Vulkan on an NVIDIA GPU (H100 wanted)",
-     lambda r: r["backend"] == "vulkan" and "llvmpipe" not in r.get("device", "")),
-    ("Vulkan on lavapipe (llvmpipe)", lambda r: r["backend"] == "vulkan" and "llvmpipe" in r.get("device", "")),
-    ("CPU backend and peers", lambda r: r["backend"] in ("cpu", "cgal", "qhull", "delaunator")),
-]
-
-
-def status_section(records):
-    # Only the records the sections below show (newest per configuration), so the commits listed
-    # here are the ones the numbers come from.
-    shown = []
-    for experiment in sorted({r.get("experiment", "") for r in records}):
-        for kept in latest_runs(records, experiment).values():
-            shown += kept
-    measured = [r for r in shown if not r.get("skipped")]
-    rows = []
-    for name, matches in TARGETS:
-        hits = [r for r in measured if matches(r)]
-        if not hits:
-            rows.append([name, "—", "—", "not measured yet", "—", "—"])
-            continue
-        experiments = sorted({r["experiment"] for r in hits})
-        hosts = sorted({host(r) for r in hits})
-        dates = sorted(r.get("date", "")[:10] for r in hits)
-        commits = sorted({r.get("commit", "unknown") for r in hits})
-        devices = sorted({r.get("device", "") for r in hits})
-        rows.append([name, ", ".join(hosts), ", ".join(devices), ", ".join(experiments),
-                     dates[0] if dates[0] == dates[-1] else f"{dates[0]} – {dates[-1]}",
-                     ", ".join(f"`{c}`" for c in commits)])
-    return table(["target", "machine", "devices", "experiments measured", "date", "commit"], rows)
+# ---------------------------------------------------------------------------- main
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--results", default=str(HERE / "results"))
+    parser.add_argument("--data", default=str(HERE / "data"), help="folder of *.jsonl records")
     parser.add_argument("--docs", default=str(HERE.parent / "docs"))
     parser.add_argument("--template", default=str(HERE / "benchmarks.template.md"))
+    parser.add_argument("--merge", nargs="+", metavar="RUN_DIR", help="fold these runs into --data first")
+    parser.add_argument("--commit", default="unknown", help="--merge: commit for records without one")
+    parser.add_argument("--date", default=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
+                        help="--merge: date for records without one")
+    parser.add_argument("--device", default="unknown", help="--merge: device for records without one")
+    parser.add_argument("--command", default="unknown", help="--merge: command for records without one")
+    parser.add_argument("--no-docs", action="store_true", help="--merge only")
     args = parser.parse_args()
 
+    if args.merge:
+        merge(args.data, args.merge, {"commit": args.commit, "date": args.date, "device": args.device,
+                                      "command": args.command})
+        if args.no_docs:
+            return
     docs = Path(args.docs)
     docs.mkdir(parents=True, exist_ok=True)
-    records = load(args.results)
+    records = load(args.data)
     sections = {
-        "STATUS": status_section(records),
-        "PEERS": peers_section(records, docs),
-        "FIG_IV1": threads_section(records, docs),
-        "FIG_IV2": scaling_section(records, docs, "uniform", "Fig. IV.2"),
-        "FIG_IV3": scaling_section(records, docs, "gaussian", "Fig. IV.3"),
+        "TARGETS": targets_section(records),
+        "CUDA_PIPELINE": cuda_section(records),
+        "SCALING": scaling_section(records, docs),
         "ITERATIONS": iterations_section(records, docs),
-        "PICTURES": pictures_section(records, docs),
+        "THREADS": threads_section(records, docs),
+        "PEERS": peers_section(records, docs),
+        "LAVAPIPE": lavapipe_section(records),
         "STAR_WORK": star_work_section(records),
+        "HOST_STAGES": host_stages_section(records),
+        "PAGE_FAULTS": page_faults_section(records),
+        "TRANSFERS": cuda_transfers_section(records),
+        "BENCH_VULKAN": bench_vulkan_section(records),
     }
     text = Path(args.template).read_text()
     for key, body in sections.items():
         text = text.replace("{{" + key + "}}", body)
     (docs / "benchmarks.md").write_text(text)
-    print(f"report.py: {len(records)} records -> {docs / 'benchmarks.md'}", file=sys.stderr)
+    count = sum(len(v) for v in records.values())
+    print(f"report.py: {count} records -> {docs / 'benchmarks.md'}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Runs Expanse's benchmarks and turns the results into docs/benchmarks.md and plots.
+# Runs Expanse's benchmarks; bench/report.py turns the results into docs/benchmarks.md and plots.
 #
 #   bench/run.sh --quick            under a minute on a 2-core machine with lavapipe or CPU only;
-#                                   results and report go to bench/out/quick/ (docs/ untouched).
+#                                   results and a report of them (report/) go to bench/out/quick/.
 #                                   CI runs this so the benchmark programs and the report cannot rot.
-#   bench/run.sh --full             real numbers; results go to bench/results/<date>-<host>/ and
-#                                   the report is written into docs/.
+#   bench/run.sh --full             real numbers; results and a report of them alone (report/)
+#                                   go to bench/out/<date>-<host>/.
+#   bench/run.sh --full --publish   ... then folded into bench/data/ (the newest measurement of
+#                                   each configuration) and docs/benchmarks.md regenerated.
 #
 # Options:
 #   --build-dir DIR       build tree (configured here if it has none; default: build-bench)
@@ -14,15 +16,16 @@
 #   --gpu LIST            GPU backends to try (default: vulkan,cuda; missing ones are skipped
 #                         with a record that says why)
 #   --dist LIST           distributions for peers/scaling/pictures (default: uniform,gaussian)
-#   --commit ID           commit to record when the tree has no .git (e.g. a copied tree on a
-#                         device machine); otherwise git is asked at run time
+#   --commit ID           commit to record when the tree has no .git (a copied tree on another
+#                         machine); otherwise the commit the programs were built from
 #   --results DIR         where the JSON lines go (overrides the defaults above)
 #   --note TEXT           stored in every record (say how loaded the machine was)
 #   --max-n N             leave out sizes above N (e.g. 65536 for lavapipe; accepts 256^2, 1e6)
 #   --timeout SECONDS     kill an experiment that runs longer (quick: 45, full: 3000)
+#   --publish             (--full) merge the results into bench/data/ and regenerate docs/
 #   --no-report           only measure
-# Each experiment is one expanse-bench invocation, so a device session with a per-command time
-# limit can run them one at a time (--experiments scaling, then --experiments threads, ...).
+# Each experiment is one expanse-bench invocation, so a machine with a per-command time limit
+# can run them one at a time (--experiments scaling, then --experiments threads, ...).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -31,6 +34,7 @@ mode=""
 build_dir="$root/build-bench"
 build=1
 report=1
+publish=0
 experiments="peers,threads,scaling,pictures,star_work"
 gpu="vulkan,cuda"
 results=""
@@ -52,15 +56,20 @@ while [[ $# -gt 0 ]]; do
     --commit) export EXPANSE_COMMIT="$2"; shift ;;
     --note) note="$2"; shift ;;
     --no-report) report=0 ;;
+    --publish) publish=1 ;;
     --timeout) timeout_s="$2"; shift ;;
     --max-n) max_n="$2"; shift ;;
-    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
 done
 if [[ -z "$mode" ]]; then
   echo "run.sh: say --quick or --full (see --help)" >&2
+  exit 2
+fi
+if [[ $publish -eq 1 && $mode != full ]]; then
+  echo "run.sh: --publish takes a --full run's numbers only" >&2
   exit 2
 fi
 
@@ -85,10 +94,10 @@ fi
 
 if [[ -z "$results" ]]; then
   if [[ $mode == quick ]]; then
-    results="$here/out/quick/results"
+    results="$here/out/quick"
     rm -rf "$results"
   else
-    results="$here/results/$(date -u +%Y-%m-%d)-$(hostname -s)"
+    results="$here/out/$(date -u +%Y-%m-%d)-$(hostname -s)"
   fi
 fi
 mkdir -p "$results"
@@ -181,10 +190,10 @@ if [[ $report -eq 1 && -z "$python" ]]; then
   exit 1
 fi
 if [[ $report -eq 1 ]]; then
-  if [[ $mode == quick ]]; then
-    "$python" "$here/report.py" --results "$results" --docs "$here/out/quick/docs"
-  else
-    "$python" "$here/report.py" --results "$here/results" --docs "$root/docs"
+  # The report of this run alone, beside its results; docs/ only through --publish.
+  "$python" "$here/report.py" --data "$results" --docs "$results/report"
+  if [[ $publish -eq 1 ]]; then
+    "$python" "$here/report.py" --merge "$results" --data "$here/data" --docs "$root/docs"
   fi
 fi
 echo "run.sh: results in $results" >&2

@@ -9,7 +9,7 @@
 #
 # EXPANSE_BASELINE=DIR adds DIR's expanse_bench_cuda, and its expanse-bench if there (a build of
 # the commit a change is measured against, same libraries), as baseline/: run-on-device.sh's
-# `compare` step runs both builds alternately in one call.
+# `compare` step runs both builds alternately in one run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$(realpath "${1:-$root/build-device}")"
@@ -18,11 +18,11 @@ rm -rf .devrun
 mkdir -p .devrun
 # EXPANSE_BUNDLE picks the programs (the tracked tree and the bundle together must stay under the
 # tool's 64 MiB): `all` (the default) every one; `cuda` the benchmark, the CUDA tests and the
-# conformance suite; `cuda-tests` the benchmark and the CUDA tests (timing calls with a baseline);
+# conformance suite; `cuda-tests` the benchmark and the CUDA tests (timing runs with a baseline);
 # `bench` the benchmark alone; `conformance` the conformance suite alone.
 mode=${EXPANSE_BUNDLE:-all}
 programs=()
-if [[ $mode != conformance ]]; then programs+=("$build/cuda_backend/expanse_bench_cuda"); fi
+if [[ $mode != conformance ]]; then programs+=("$build/bench/expanse_bench_cuda"); fi
 if [[ $mode != bench && $mode != conformance ]]; then programs+=("$build/tests/cuda/expanse_cuda_tests"); fi
 if [[ $mode != bench && $mode != cuda-tests ]]; then programs+=("$build/tests/expanse_conformance"); fi
 if [[ $mode == all ]]; then

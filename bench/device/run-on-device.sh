@@ -5,7 +5,7 @@
 #
 #   bash bench/device/run-on-device.sh STEP...
 #
-# Steps (each under its own time limit, so one hang cannot eat the whole call):
+# Steps (each under its own time limit, so one hang cannot eat the whole command):
 #   env          nvidia-smi, vulkan device list                 -> env.txt
 #   tests        CUDA tests, conformance on CUDA and on Vulkan, the Vulkan test suites and the
 #                interop test (an application's own device and buffers)
@@ -14,22 +14,22 @@
 #                                                                -> sanitizer.log
 #   bench-cuda   expanse_bench_cuda 512^2 .. 4096^2 x 4 distributions
 #                                                  -> bench-cuda[-TAG].jsonl (log: bench.log)
-#   figures      the paper's experiments for docs/benchmarks.md within one device call:
+#   figures      the paper's experiments for docs/benchmarks.md within one 10-minute command:
 #                scaling 32^2..4096^2 on CUDA and Vulkan (our layout), the paper's layout and
 #                the CPU backend and CGAL up to 1024^2, threads per block up to 1024^2
 #                                                                -> results/{scaling,threads}.jsonl
-#   vulkan-4096  expanse-bench scaling at 4096^2 uniform, CUDA and Vulkan (the free function per
-#                repetition, as `figures`), then Vulkan alone with its star loop budget at 65536
-#                and 262144 (default 20000): deferred sites and seam time against star time
-#                                                  -> results/vulkan-4096.jsonl, printed
 #   compare      this build against the bundle's baseline/ (bundle.sh, EXPANSE_BASELINE),
-#                alternated: star kernel and GPU-only     -> compare.jsonl (log: compare.log)
+#                alternated: star kernel and GPU-only     -> compare.jsonl (log: compare.log),
+#                and the Vulkan backend at 4096^2 uniform -> compare-vulkan.jsonl
 #   page-faults  expanse-bench-page-faults: faulting in 805 MB by thread count, huge pages or not
 #                                                  -> page-faults.jsonl, printed
 #   summary      a short table of the bench-cuda records, printed last (the tool returns the
 #                end of the output)
-# EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda, and
-# EXPANSE_BENCH_TAG names its output (for variants selected by environment variables).
+# EXPANSE_BENCH_SIZES / EXPANSE_BENCH_DISTS / EXPANSE_BENCH_REPS narrow bench-cuda and compare,
+# EXPANSE_BENCH_TAG names bench-cuda's output (for variants selected by environment variables),
+# EXPANSE_BENCH_LIMIT is bench-cuda's time limit; EXPANSE_COMPARE_ROUNDS and
+# EXPANSE_COMPARE_PIPELINE steer compare (docs/benchmarks.md, "Method", lists them all).
+# The JSON lines become current numbers with `python3 bench/report.py --merge DIR --commit ...`.
 set -u
 cd "$(dirname "$0")/../.."
 out="${OUT:-/tmp/expanse-device-out}"
@@ -150,31 +150,6 @@ PY
         --experiment threads --backends cuda,vulkan --dist uniform -n 256^2,512^2,1024^2 --layouts paper \
         --threads 8,16,32,64,128,256,512,1024 -r 3 --max-seconds 3 \
         "${common[@]}" -o "$out/results/threads.jsonl" ;;
-    vulkan-4096)
-      mkdir -p "$out/results"
-      bench="$bin/expanse-bench"
-      f="$out/results/vulkan-4096.jsonl"
-      EXPANSE_COMMIT="$commit" step "scaling 4096^2: cuda, vulkan" 240 "$out/experiments.log" "$bench" \
-        --experiment scaling --backends cuda,vulkan --dist uniform -n 4096^2 --layouts default \
-        -r 5 --warmup 1 --note "device run" -o "$f"
-      for budget in 65536 262144; do
-        EXPANSE_VULKAN_LOOP_BUDGET=$budget EXPANSE_COMMIT="$commit" \
-          step "scaling 4096^2: vulkan, loop budget $budget" 120 "$out/experiments.log" "$bench" \
-          --experiment scaling --backends vulkan --dist uniform -n 4096^2 --layouts default \
-          -r 3 --warmup 1 --note "device run, EXPANSE_VULKAN_LOOP_BUDGET=$budget" -o "$f"
-      done
-      python3 - "$f" <<'PY'
-import json, sys
-for line in open(sys.argv[1]):
-    r = json.loads(line)
-    if r.get("skipped"):
-        print(r["backend"], "skipped:", r.get("reason")); continue
-    t = r["time_ms"]["total"]
-    print(f"{r['backend']:7} {r.get('note','')}: total median {t['median']:.1f} min {t['min']:.1f}  deferred {r.get('deferred')}")
-    print("   host:  ", {k: round(v, 1) for k, v in r.get("stages_ms", {}).items()})
-    print("   device:", {k: round(v, 1) for k, v in r.get("device_stages_ms", {}).items()})
-PY
-      ;;
     summary)
       python3 - "$out" <<'PY'
 import glob, json, os, sys

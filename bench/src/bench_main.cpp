@@ -55,6 +55,7 @@ struct Config {
   bool neighbors = true;
   std::string out;
   std::string note;
+  std::string command;  // the invocation, stored in every record
   std::string pictures;
   std::string delaunator_script = EXPANSE_BENCH_DELAUNATOR_SCRIPT;
 };
@@ -118,7 +119,8 @@ json base_record(const RunContext& context, const Config& config, const std::str
           {"commit", context.commit},
           {"date", bench::utc_now()},
           {"machine", context.machine},
-          {"note", config.note}};
+          {"note", config.note},
+          {"command", config.command}};
 }
 
 void emit(const RunContext& context, json record) {
@@ -137,7 +139,7 @@ void skip(const RunContext& context, const Config& config, const std::string& ba
 }
 
 // Repetitions that fit the time budget, judged from the last warm-up run: a 16M-point CPU run
-// must not hold a device session for minutes, but one timed run always happens.
+// must not hold a GPU machine for minutes, but one timed run always happens.
 int repetitions_within_budget(const Config& config, double warm_ms) {
   if (warm_ms <= 0.0) return config.repetitions;
   const int fit = static_cast<int>(config.max_seconds * 1000.0 / warm_ms);
@@ -442,6 +444,19 @@ int main(int argc, char** argv) {
   app.add_option("--delaunator-script", config.delaunator_script, "path of bench/delaunator/run.mjs")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  // What was measured, without where it went or the free-text note.
+  config.command = "expanse-bench";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool local = arg == "-o" || arg == "--out" || arg == "--note" || arg == "--pictures" ||
+                       arg == "--delaunator-script";
+    if (local) {
+      ++i;  // and its value
+    } else if (arg.rfind("--out=", 0) != 0 && arg.rfind("--note=", 0) != 0 &&
+               arg.rfind("--pictures=", 0) != 0 && arg.rfind("--delaunator-script=", 0) != 0) {
+      config.command += " " + arg;
+    }
+  }
 
   try {
     config.backends = bench::split_list(backends);
