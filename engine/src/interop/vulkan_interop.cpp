@@ -6,7 +6,6 @@
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include "expanse/vulkan_interop.hpp"
 
-#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -18,16 +17,14 @@
 #include "backends/vulkan/vulkan_backend.hpp"
 #include "expanse/error.hpp"
 #include "pipeline/run_pipeline.hpp"
+#include "support/timing.hpp"
 
 namespace expanse::vulkan {
 namespace {
 
 namespace vk = detail::vk;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using detail::Clock;
+using detail::ms_since;
 
 // Storage buffers bound at once by the largest kernel (shaders/blocks.comp) and the largest
 // push-constant block (GridParams in vulkan_backend.cpp).
