@@ -159,11 +159,11 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
         dvec2 p = site_at(ip);
         if (apex >= 0 && clearly_outside(circle, p)) continue;
         int o = orient2d_device(a, b, p);
-        if (o == UNCERTAIN) return SEARCH_DEFER;
+        if (o == uncertain) return SEARCH_DEFER;
         if (o <= 0) continue;
         if (apex >= 0) {
           int s = incircle_perturbed_device(a, b, best_p, p);
-          if (s == UNCERTAIN) return SEARCH_DEFER;
+          if (s == uncertain) return SEARCH_DEFER;
           if (s <= 0) continue;
         }
         apex = ip;
