@@ -159,7 +159,7 @@ void main() {
     if (seed_slot >= 0) {
       int seed = local_ids[slot_base + seed_slot];
       int nearest, nearest_slot;
-      int status = nearest_search(g, seed, nearest, nearest_slot);
+      int status = nearest_site(g, seed, nearest, nearest_slot);
       if (status == SEARCH_FOUND) {
         int ln = nearest_slot - slot_base;
         active_edges[active_base] = edge_key(seed_slot, ln);

@@ -187,7 +187,7 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
 // Nearest other site of s by an exact comparison of squared distances (exactly equal distances
 // may resolve either way: any exact nearest neighbour is a Delaunay neighbour).
 // SEARCH_OUTSIDE when the disc reaches cells the grid does not hold.
-int nearest_search(Grid g, int is, out int nearest, out int nearest_slot) {
+int nearest_site(Grid g, int is, out int nearest, out int nearest_slot) {
   nearest = -1;
   nearest_slot = -1;
   dvec2 s = site_at(is);
