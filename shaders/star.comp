@@ -31,7 +31,7 @@
 #include "host_device.h"
 
 layout(local_size_x_id = STAR_SPEC_WORKGROUP) in;
-// Most neighbours a star may have (at most 16, the row length, see star_common.glsl): a site
+// Most neighbours a star may have (at most STAR_ROW, the row length, host_device.h): a site
 // whose star has more defers to the seam stage (uniform inputs reach degree 17 about once in
 // 10^6 sites).
 layout(constant_id = STAR_SPEC_CAPACITY) const int STAR_CAPACITY = 16;
@@ -85,7 +85,7 @@ layout(std430, set = 0, binding = 5) buffer Star { ivec4 star4[]; };
 // The same rows as words: until a site of a later phase walks, its row is its inbox: what the
 // stars of earlier phases posted to it (the count in site_info_words, below).
 layout(std430, set = 0, binding = 5) buffer StarWords { int star_words[]; };
-// Site s: (star info (star_common.glsl), first output triangle of s or -1).
+// Site s: (star info (host_device.h), first output triangle of s or -1).
 layout(std430, set = 0, binding = 6) buffer SiteInfo { ivec2 site_info[]; };
 // The same words: word 2u + 1 of a site u of a later phase counts the posts of earlier phases
 // to u's inbox, minus one (the host fills the words with -1 before the first phase; only finished
@@ -261,19 +261,15 @@ StarRow row;
 int v0, v, deg, m;
 bool closed;
 
-// The site this invocation walks, or -1: phase params.phase's, and in the retry only those the
-// first_pass handed on; with EDGE_PART, only the sites of (or off) the grid's outer ring.
-int site_to_walk() {
-  int i = params.first_site + int(gl_GlobalInvocationID.x);
-  int site = i * params.phase_count + params.phase;
-  if (site >= params.site_count) return -1;
-  if (RETRY && !star_handed_on(uint(site_info[site].x))) return -1;
-  if (EDGE_PART != 0) {
-    const ivec2 c = cell_of(site_at(site));
-    const bool ring = min(min(c.x, c.y), min(params.cells - 1 - c.x, params.cells - 1 - c.y)) < 1;
-    if (ring != (EDGE_PART == 1)) return -1;
-  }
-  return site;
+// The site this invocation walks: phase params.phase's (ids modulo params.phase_count).
+int site_of_invocation() { return (params.first_site + int(gl_GlobalInvocationID.x)) * params.phase_count + params.phase; }
+
+// With EDGE_PART: whether s is among the sites this dispatch walks (of, or off, the grid's
+// outer ring of cells).
+bool in_edge_part(int site) {
+  const ivec2 c = cell_of(site_at(site));
+  const bool ring = min(min(c.x, c.y), min(params.cells - 1 - c.x, params.cells - 1 - c.y)) < 1;
+  return ring == (EDGE_PART == 1);
 }
 
 // The walk's start: nearest_site's first box around s, an empty star.
@@ -347,29 +343,6 @@ void read_inbox() {
   }
 }
 
-// The next row segment of target minus visited into [slot, slot_end); false when the box is done.
-bool next_row_segment() {
-  bool in_rows = y >= vlo.y && y <= vhi.y;
-  if (part == 0 && in_rows) {
-    part = 1;
-  } else {
-    part = 0;
-    ++y;
-  }
-  if (y > thi.y) return false;
-  in_rows = y >= vlo.y && y <= vhi.y;
-  int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
-  int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
-  slot = 0;
-  slot_end = 0;
-  if (x0 <= x1) {
-    int c0 = y * params.cells + x0;
-    slot = cell_start_at(c0);
-    slot_end = cell_start_at(c0 + (x1 - x0) + 1);
-  }
-  return true;
-}
-
 // The candidate loop over [slot, slot_end): straight-line, one exit. Stops at a candidate the
 // filters leave to decide_exactly (pending), or at a better candidate when a large box was
 // planned from a worse candidate's region (restart).
@@ -423,68 +396,63 @@ void scan_box() {
   for (;;) {
     if (slot >= slot_end) {
       if (--budget < 0) break;
-      if (!next_row_segment()) break;
+      // Next row segment of target minus visited.
+      bool in_rows = y >= vlo.y && y <= vhi.y;
+      if (part == 0 && in_rows) {
+        part = 1;
+      } else {
+        part = 0;
+        ++y;
+      }
+      if (y > thi.y) break;
+      in_rows = y >= vlo.y && y <= vhi.y;
+      int x0 = (in_rows && part == 1) ? vhi.x + 1 : tlo.x;
+      int x1 = (in_rows && part == 0) ? vlo.x - 1 : thi.x;
+      slot = 0;
+      slot_end = 0;
+      if (x0 <= x1) {
+        int c0 = y * params.cells + x0;
+        slot = cell_start_at(c0);
+        slot_end = cell_start_at(c0 + (x1 - x0) + 1);
+      }
     }
     scan_row_segment();
     if (budget < 0 || pending >= 0 || restart) break;
   }
 }
 
-// What plan_next_box decided.
-const int BOX_PLANNED = 0;  // a further box to scan
-const int BOX_FOUND = 1;    // the search is over: best is the answer
-const int BOX_NONE = 2;     // no candidate anywhere (the walk defers)
+// No candidate in the boxes visited: twice as large a box around them.
+void grow_box() {
+  ivec2 grow = max(vhi - vlo + 1, ivec2(1));
+  tlo = max(vlo - grow, ivec2(0));
+  thi = min(vhi + grow, ivec2(params.cells - 1));
+}
 
-// The target box is scanned (or abandoned for a better plan: restart): the search is over when
-// the best candidate's region (nearest_site: its distance; apex_search: circle_region) lies in
-// the cells visited; else the next box, towards the region.
-int plan_next_box() {
-  if (!restart) {
-    vlo = tlo;
-    vhi = thi;
-  }
-  restart = false;
-  bool found = known;
-  known = false;
-  if (found) {
-    // Nothing to plan.
-  } else if (best < 0) {
-    if (vlo == ivec2(0) && vhi == ivec2(params.cells - 1)) {
-      impossible = true;
-      walk = WALK_DEFER;
-      return BOX_NONE;
-    }
-    ivec2 grow = max(vhi - vlo + 1, ivec2(1));
-    tlo = max(vlo - grow, ivec2(0));
-    thi = min(vhi + grow, ivec2(params.cells - 1));
+// The region the best candidate leaves (nearest_site: its distance; apex_search:
+// circle_region): true when it lies in the cells visited (the search is over); the next box
+// goes towards it.
+bool aim_at_region() {
+  ivec2 rlo, rhi;
+  if (walk == WALK_NEAREST) {
+    double reach = sqrt(best_d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
+    rlo = cell_of(ps - dvec2(reach));
+    rhi = cell_of(ps + dvec2(reach));
   } else {
-    ivec2 rlo, rhi;
-    if (walk == WALK_NEAREST) {
-      double reach = sqrt(best_d2) * (1.0lf + 1.0e-6lf) + ABS_MARGIN;
-      rlo = cell_of(ps - dvec2(reach));
-      rhi = cell_of(ps + dvec2(reach));
-    } else {
-      circle_region(pa, pb, best_p, rlo, rhi);
-    }
-    found = box_inside(rlo, rhi, vlo, vhi);
-    // Towards the region, but by at most half the visited box per side: nearer candidates
-    // come first and shrink the region (a far region is often a poor early candidate's).
-    if (vlo.x > vhi.x) {
-      // Restarted in a search's first box: the region within that box.
-      tlo = max(rlo, tlo);
-      thi = min(rhi, thi);
-    } else {
-      ivec2 reach = max((vhi - vlo + 1) >> 1, ivec2(1));
-      tlo = max(min(vlo, rlo), vlo - reach);
-      thi = min(max(vhi, rhi), vhi + reach);
-    }
+    circle_region(pa, pb, best_p, rlo, rhi);
   }
-  y = tlo.y - 1;
-  part = 1;
-  slot = 0;
-  slot_end = 0;
-  big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > params.big_scan_cells;
-  return found ? BOX_FOUND : BOX_PLANNED;
+  bool found = box_inside(rlo, rhi, vlo, vhi);
+  // Towards the region, but by at most half the visited box per side: nearer candidates come
+  // first and shrink the region (a far region is often a poor early candidate's).
+  if (vlo.x > vhi.x) {
+    // Restarted in a search's first box: the region within that box.
+    tlo = max(rlo, tlo);
+    thi = min(rhi, thi);
+  } else {
+    ivec2 reach = max((vhi - vlo + 1) >> 1, ivec2(1));
+    tlo = max(min(vlo, rlo), vlo - reach);
+    thi = min(max(vhi, rhi), vhi + reach);
+  }
+  return found;
 }
 
 // The search is over and c (best) is the answer: the walk's next step, and the steps after it
@@ -599,9 +567,34 @@ void walk_star() {
     for (;;) {  // search loop
       scan_box();
       if (budget < 0 || pending >= 0) break;
-      int box = plan_next_box();
-      if (box == BOX_NONE) break;
-      if (box == BOX_PLANNED) continue;
+
+      // The target box is scanned (or abandoned for a better plan: restart).
+      if (!restart) {
+        vlo = tlo;
+        vhi = thi;
+      }
+      restart = false;
+      bool found = known;
+      known = false;
+      if (found) {
+        // Nothing to plan.
+      } else if (best < 0) {
+        if (vlo == ivec2(0) && vhi == ivec2(params.cells - 1)) {
+          impossible = true;  // no candidate anywhere: cannot happen for a valid hull
+          walk = WALK_DEFER;
+          break;
+        }
+        grow_box();
+      } else {
+        found = aim_at_region();
+      }
+      y = tlo.y - 1;
+      part = 1;
+      slot = 0;
+      slot_end = 0;
+      big_scan = box_cells(tlo, thi) - box_cells(vlo, vhi) > params.big_scan_cells;
+      if (!found) continue;
+
       take_steps(best);
       if (walk >= WALK_DONE || budget < 0) break;
       start_apex_search();
@@ -696,8 +689,10 @@ void finish_star() {
 }
 
 void main() {
-  int site = site_to_walk();
-  if (site < 0) return;
+  int site = site_of_invocation();
+  if (site >= params.site_count) return;
+  if (RETRY && !star_handed_on(uint(site_info[site].x))) return;
+  if (EDGE_PART != 0 && !in_edge_part(site)) return;
   start_walk(site);
   if (params.phase > 0) read_inbox();
   walk_star();
