@@ -14,7 +14,7 @@ namespace {
 // A counting sort in O(n + cells), its passes split over the host threads; sites keep their
 // SiteSet order within a cell, so the result does not depend on the thread count.
 StarGrid bucket_stars(const GrowInput& input, const StarCells& plan, Point2* points,
-                             std::int32_t* cell_start, std::int32_t* predecessor) {
+                      std::int32_t* cell_start, std::int32_t* predecessor) {
   const SiteSet& sites = input.sites;
   const std::size_t n = std::size_t(sites.size());
   const int cells = plan.cells;
@@ -99,7 +99,7 @@ void bucket_on_host(Context& ctx, const GrowInput& input, const StarCells& plan,
 }
 
 void restore_on_host(const StarGrid& g, const std::int32_t* raw, std::size_t count,
-                            PartialTriangulation& partial) {
+                     PartialTriangulation& partial) {
   const std::size_t n = g.to_site.size();
   std::atomic<bool> bad{false};
   parallel_chunks(count, host_workers(count), [&](std::size_t begin, std::size_t end, unsigned) {

@@ -69,7 +69,7 @@ struct HostStar {
 // A first pass checks every star (ids in range, degree, output range); the second reads them
 // unchecked.
 void link_stars(const std::int32_t* star, const std::int32_t* info_base, std::size_t n,
-                       PartialTriangulation& partial) {
+                PartialTriangulation& partial) {
   const std::size_t count = partial.triangles.size();
   auto& nbrs = partial.neighbors;
   nbrs.assign(count, {no_neighbor, no_neighbor, no_neighbor});

@@ -63,7 +63,7 @@ Sorted bucket(const GrowInput& input, int cells) {
 }
 
 void finish(const Sorted& s, const std::vector<std::int32_t>& raw, std::size_t count,
-                   GrowResult& result) {
+            GrowResult& result) {
   auto& triangles = result.partial.triangles;
   triangles.resize(count);
   const std::size_t n = s.to_site.size();
