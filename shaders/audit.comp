@@ -8,6 +8,8 @@
 // bucket.comp's restore pass), and `predecessor` is hull.predecessor in SiteSet ids.
 #extension GL_GOOGLE_include_directive : require
 
+#include "host_device.h"
+
 layout(local_size_x_id = 0) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer Triangles { int triangles[]; };
@@ -18,16 +20,11 @@ layout(std430, set = 0, binding = 3) writeonly buffer OpenSlots { int open_slots
 // [12] open edges beyond open_capacity (not listed)
 layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
 
-layout(push_constant) uniform Params {
-  int triangle_capacity;
-  int open_capacity;
-  int first;  // dispatches are split to respect maxComputeWorkGroupCount
-  int pad;
-} params;
+layout(push_constant) uniform Push { AuditParams params; };
 
 void main() {
   const int t = params.first + int(gl_GlobalInvocationID.x);
-  const int count = int(min(counters[0], uint(params.triangle_capacity)));
+  const int count = int(min(counters[COUNTER_TRIANGLES], uint(params.triangle_capacity)));
   if (t >= count) return;
   uint bad = 0u;
   for (int k = 0; k < 3; ++k) {
@@ -36,11 +33,11 @@ void main() {
     const int u = neighbors[3 * t + k];
     if (u == -1) {
       if (predecessor[y] != x) {
-        const uint at = atomicAdd(counters[11], 1u);
+        const uint at = atomicAdd(counters[COUNTER_OPEN_EDGES], 1u);
         if (int(at) < params.open_capacity)
           open_slots[int(at)] = 3 * t + k;
         else
-          atomicAdd(counters[12], 1u);
+          atomicAdd(counters[COUNTER_OPEN_OVERFLOW], 1u);
       }
       continue;
     }
@@ -52,5 +49,5 @@ void main() {
     while (j < 3 && !(triangles[3 * u + (j + 1) % 3] == y && triangles[3 * u + (j + 2) % 3] == x)) ++j;
     if (j == 3 || neighbors[3 * u + j] != t) ++bad;
   }
-  if (bad != 0u) atomicAdd(counters[10], bad);
+  if (bad != 0u) atomicAdd(counters[COUNTER_BAD_LINKS], bad);
 }

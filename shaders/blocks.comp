@@ -6,6 +6,8 @@
 #extension GL_ARB_gpu_shader_fp64 : enable
 #extension GL_GOOGLE_include_directive : require
 
+#include "host_device.h"
+
 layout(local_size_x_id = 0) in;
 // Loop iterations one invocation may spend on searches before it leaves its edges open for the
 // seam stage (lavapipe's loop cap, see grid.glsl).
@@ -28,14 +30,7 @@ layout(std430, set = 0, binding = 8) writeonly buffer Triangles { int triangles[
 // [4] edges left open (region outside the block), [5] active/edge-set overflow
 layout(std430, set = 0, binding = 9) buffer Counters { uint counters[]; };
 
-layout(push_constant) uniform Params {
-  dvec2 origin;
-  dvec2 inv_width;
-  int cells;
-  int block_count;
-  int first_block;
-  int triangle_capacity;
-} params;
+layout(push_constant) uniform Push { BlockParams params; };
 
 dvec2 site_at(int id) { return sites[id]; }
 int cell_begin(int cell) { return cell_start[cell]; }
@@ -69,7 +64,7 @@ int edge_insert(int la, int lb) {
     if (seen == key) return 0;
     h = h + 1u == uint(hash_capacity) ? 0u : h + 1u;
   }
-  atomicAdd(counters[5], 1u);
+  atomicAdd(counters[COUNTER_BLOCK_ACTIVE_OVERFLOW], 1u);
   return -1;
 }
 
@@ -93,7 +88,7 @@ void push_edge(int parity, int la, int lb) {
 
 void expand(Grid g, int block, int next_parity, uint edge) {
   if (loop_budget < 0) {
-    atomicAdd(counters[1], 1u);
+    atomicAdd(counters[COUNTER_DEFERRED], 1u);
     return;
   }
   int la = int(edge >> 16), lb = int(edge & 0xffffu);
@@ -103,11 +98,11 @@ void expand(Grid g, int block, int next_parity, uint edge) {
   int c, c_slot;
   int status = apex_search(g, a, b, sites[a], sites[b], c, c_slot);
   if (status == SEARCH_DEFER) {
-    atomicAdd(counters[1], 1u);
+    atomicAdd(counters[COUNTER_DEFERRED], 1u);
     return;
   }
   if (status != SEARCH_FOUND) {
-    atomicAdd(counters[4], 1u);  // left open for the seam stage
+    atomicAdd(counters[COUNTER_BLOCK_OPEN], 1u);  // left open for the seam stage
     return;
   }
   int lc = c_slot - slot_base;
@@ -122,13 +117,13 @@ void expand(Grid g, int block, int next_parity, uint edge) {
   // Across blocks, only the block owning the smallest site id emits.
   int m = min(a, min(b, c));
   if (owner[m] == block) {
-    uint at = atomicAdd(counters[0], 1u);
+    uint at = atomicAdd(counters[COUNTER_TRIANGLES], 1u);
     if (int(at) < params.triangle_capacity) {
       triangles[3 * int(at)] = a;
       triangles[3 * int(at) + 1] = b;
       triangles[3 * int(at) + 2] = c;
     } else {
-      atomicAdd(counters[2], 1u);
+      atomicAdd(counters[COUNTER_OVERFLOW], 1u);
     }
   }
   // Outward edges c->b and a->c, unless their triangle is already known or they face out.
@@ -139,20 +134,20 @@ void expand(Grid g, int block, int next_parity, uint edge) {
 void main() {
   int block = params.first_block + int(gl_WorkGroupID.x);
   if (block >= params.block_count) return;
-  int info = 12 * block;
+  int info = BLOCK_INFO_WORDS * block;
   Grid g;
   g.origin = params.origin;
   g.inv_width = params.inv_width;
   g.cells = params.cells;
-  g.lo = ivec2(blocks[info + 0], blocks[info + 1]);
-  g.hi = ivec2(blocks[info + 2], blocks[info + 3]);
-  g.cell_base = blocks[info + 4];
-  slot_base = blocks[info + 5];
-  int seed_slot = blocks[info + 7];
-  hash_base = blocks[info + 8];
-  hash_capacity = blocks[info + 9];
-  active_base = blocks[info + 10];
-  active_capacity = blocks[info + 11];
+  g.lo = ivec2(blocks[info + BLOCK_LO_X], blocks[info + BLOCK_LO_Y]);
+  g.hi = ivec2(blocks[info + BLOCK_HI_X], blocks[info + BLOCK_HI_Y]);
+  g.cell_base = blocks[info + BLOCK_CELL_BASE];
+  slot_base = blocks[info + BLOCK_SLOT_BASE];
+  int seed_slot = blocks[info + BLOCK_SEED_SLOT];
+  hash_base = blocks[info + BLOCK_HASH_BASE];
+  hash_capacity = blocks[info + BLOCK_HASH_CAPACITY];
+  active_base = blocks[info + BLOCK_ACTIVE_BASE];
+  active_capacity = blocks[info + BLOCK_ACTIVE_CAPACITY];
   uint tid = gl_LocalInvocationID.x;
   uint threads = gl_WorkGroupSize.x;
   loop_budget = LOOP_BUDGET;
@@ -164,14 +159,14 @@ void main() {
     if (seed_slot >= 0) {
       int seed = local_ids[slot_base + seed_slot];
       int nearest, nearest_slot;
-      int status = nearest_search(g, seed, nearest, nearest_slot);
+      int status = nearest_site(g, seed, nearest, nearest_slot);
       if (status == SEARCH_FOUND) {
         int ln = nearest_slot - slot_base;
         active_edges[active_base] = edge_key(seed_slot, ln);
         active_edges[active_base + 1] = edge_key(ln, seed_slot);
         s_count = 2u;
       } else if (status == SEARCH_DEFER) {
-        atomicAdd(counters[1], 1u);
+        atomicAdd(counters[COUNTER_DEFERRED], 1u);
       }
     }
   }
@@ -190,7 +185,7 @@ void main() {
     memoryBarrierShared();
     barrier();
     if (tid == 0u) {
-      if (s_next > uint(active_capacity)) atomicAdd(counters[5], s_next - uint(active_capacity));
+      if (s_next > uint(active_capacity)) atomicAdd(counters[COUNTER_BLOCK_ACTIVE_OVERFLOW], s_next - uint(active_capacity));
       s_count = min(s_next, uint(active_capacity));
       s_next = 0u;
       s_iterations += 1u;
@@ -200,5 +195,5 @@ void main() {
     barrier();
     parity = 1 - parity;
   }
-  if (tid == 0u) atomicMax(counters[3], s_iterations);
+  if (tid == 0u) atomicMax(counters[COUNTER_BLOCK_ITERATIONS], s_iterations);
 }

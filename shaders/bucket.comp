@@ -4,33 +4,30 @@
 // predecessors in SiteSet order and nothing else; a few passes, selected by params.pass, make
 // what star.comp reads:
 //
-//   PASS_COUNT        cell of every site; cell sizes counted into cell_start[c + 1] (atomics)
+//   BUCKET_PASS_COUNT        cell of every site; cell sizes counted into cell_start[c + 1] (atomics)
 //   (scan.comp)       inclusive scan of cell_start: cell c's sites are [start[c], start[c+1])
-//   PASS_SCATTER      each site claims a slot of its cell (atomics: any order)
-//   PASS_ORDER        each slot ranks its site among its cell's sites by SiteSet id and moves
+//   BUCKET_PASS_SCATTER      each site claims a slot of its cell (atomics: any order)
+//   BUCKET_PASS_ORDER        each slot ranks its site among its cell's sites by SiteSet id and moves
 //                     it there: within a cell the sites keep their SiteSet order, exactly as
 //                     the host's counting sort leaves them, so the sorted ids, the stars'
 //                     owners and the output do not depend on the atomics' order
-//   PASS_PREDECESSOR  the hull predecessors, renumbered to sorted ids
-//   PASS_RESTORE      after star.comp: the triangles' sorted ids back to SiteSet ids, checked,
+//   BUCKET_PASS_PREDECESSOR  the hull predecessors, renumbered to sorted ids
+//   BUCKET_PASS_RESTORE      after star.comp: the triangles' sorted ids back to SiteSet ids, checked,
 //                     so the host copies the triangles as they are
 //
 // Ranking costs a cell's size per site. A cell of more than MAX_CELL sites (a crowded cluster)
-// is reported in counters[8] instead: lavapipe silently leaves loops after 65535 iterations, and
+// is reported in counters[COUNTER_CROWDED_CELL] instead: lavapipe silently leaves loops after 65535 iterations, and
 // the host then buckets the sites itself.
 #extension GL_ARB_gpu_shader_fp64 : enable
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const int MAX_CELL = 4096;
-// Quantile cells (quantile_cells.glsl) instead of uniform ones, as star.comp's.
-layout(constant_id = 2) const bool QUANTILE_CELLS = false;
+#include "host_device.h"
 
-const int PASS_COUNT = 0;
-const int PASS_SCATTER = 1;
-const int PASS_ORDER = 2;
-const int PASS_PREDECESSOR = 3;
-const int PASS_RESTORE = 4;
+layout(local_size_x_id = 0) in;
+layout(constant_id = BUCKET_SPEC_MAX_CELL) const int MAX_CELL = 4096;
+// Quantile cells (quantile_cells.glsl) instead of uniform ones, as star.comp's.
+layout(constant_id = BUCKET_SPEC_QUANTILE_CELLS) const bool QUANTILE_CELLS = false;
+
 
 layout(std430, set = 0, binding = 0) readonly buffer InputSites { dvec2 input_sites[]; };
 layout(std430, set = 0, binding = 1) readonly buffer InputPredecessor { int input_predecessor[]; };
@@ -49,36 +46,27 @@ layout(std430, set = 0, binding = 11) buffer Counters { uint counters[]; };
 // Quantile cells' boundaries (unused with uniform cells).
 layout(std430, set = 0, binding = 12) readonly buffer CellBounds { double cell_bounds[]; };
 
-layout(push_constant) uniform Params {
-  dvec2 origin;
-  dvec2 inv_width;
-  int cells;
-  int count;   // sites
-  int first;   // dispatches are split to respect maxComputeWorkGroupCount
-  int pass;
-  int triangle_capacity;
-  int pad[3];
-} params;
+layout(push_constant) uniform Push { BucketParams params; };
 
 #include "cells.glsl"
 #include "quantile_cells.glsl"
 
 void main() {
   const int i = params.first + int(gl_GlobalInvocationID.x);
-  if (params.pass == PASS_RESTORE) {
+  if (params.pass == BUCKET_PASS_RESTORE) {
     // Only the triangles star.comp wrote (it counts past the capacity when it overflows).
-    const int written = int(min(counters[0], uint(params.triangle_capacity)));
+    const int written = int(min(counters[COUNTER_TRIANGLES], uint(params.triangle_capacity)));
     if (i >= 3 * written) return;
     const int id = triangles[i];
     if (id < 0 || id >= params.count) {
-      atomicAdd(counters[9], 1u);
+      atomicAdd(counters[COUNTER_INVALID_ID], 1u);
       return;
     }
     triangles[i] = to_site[id];
     return;
   }
   if (i >= params.count) return;
-  if (params.pass == PASS_COUNT) {
+  if (params.pass == BUCKET_PASS_COUNT) {
     const dvec2 p = input_sites[i];
     const int c =
         QUANTILE_CELLS
@@ -87,14 +75,14 @@ void main() {
                   cell_coord(p.x, params.origin.x, params.inv_width.x, params.cells);
     cell_key[i] = c;
     atomicAdd(cell_start[c + 1], 1);
-  } else if (params.pass == PASS_SCATTER) {
+  } else if (params.pass == BUCKET_PASS_SCATTER) {
     unordered[atomicAdd(cursor[cell_key[i]], 1)] = i;
-  } else if (params.pass == PASS_ORDER) {
+  } else if (params.pass == BUCKET_PASS_ORDER) {
     const int site = unordered[i];
     const int c = cell_key[site];
     const int begin = cell_start[c], end = cell_start[c + 1];
     if (end - begin > MAX_CELL) {
-      if (i == begin) atomicAdd(counters[8], 1u);
+      if (i == begin) atomicAdd(counters[COUNTER_CROWDED_CELL], 1u);
       return;
     }
     int rank = 0;
@@ -103,7 +91,7 @@ void main() {
     to_site[at] = site;
     to_sorted[site] = at;
     sorted_sites[at] = input_sites[site];
-  } else if (params.pass == PASS_PREDECESSOR) {
+  } else if (params.pass == BUCKET_PASS_PREDECESSOR) {
     const int p = input_predecessor[to_site[i]];
     predecessor[i] = p < 0 ? -1 : to_sorted[p];
   }

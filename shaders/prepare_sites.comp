@@ -5,41 +5,33 @@
 // index represents each group), the groups' first points compacted into the sites. The passes,
 // selected by params.pass and recorded by device_preparation.cpp:
 //
-//   PASS_CODES          scale each point in place; its Morton code and input index (side 0)
+//   PREPARE_PASS_CODES          scale each point in place; its Morton code and input index (side 0)
 //   (radix_sort.comp)   by the 60-bit codes
-//   PASS_GATHER         the points in sorted order
-//   PASS_FIRST_EQUAL    the first position of a run of equal codes holding a point equal to
+//   PREPARE_PASS_GATHER         the points in sorted order
+//   PREPARE_PASS_FIRST_EQUAL    the first position of a run of equal codes holding a point equal to
 //                       p's (p itself if none); heads[p] = 1 where that is p. A run longer than
-//                       RUN_LIMIT sets counters[0] instead, and the host sorts again:
-//   PASS_KEYS           (then) the key of sort number params.mode for the points in the current
+//                       RUN_LIMIT sets counters[PREPARE_COUNTER_LONG_RUN] instead, and the host sorts again:
+//   PREPARE_PASS_KEYS           (then) the key of sort number params.mode for the points in the current
 //                       order: 0 y, 1 x (their bits in an order that follows the value, -0 as
 //                       +0), 2 the code; three stable sorts order by (code, x, y)
-//   PASS_GROUP_START    (then) heads[p] = 1 where p differs from the point before it
+//   PREPARE_PASS_GROUP_START    (then) heads[p] = 1 where p differs from the point before it
 //   (scan.comp)         inclusive scan of the heads: position p's group is heads'[p] - 1
-//   PASS_HEAD_POSITION  (then) where each group starts, into rank[]
-//   PASS_FIRST_OF_GROUP (then) first[p] from it
-//   PASS_COMPACT        the heads become the sites (in Morton order); each input index gets
+//   PREPARE_PASS_HEAD_POSITION  (then) where each group starts, into rank[]
+//   PREPARE_PASS_FIRST_OF_GROUP (then) first[p] from it
+//   PREPARE_PASS_COMPACT        the heads become the sites (in Morton order); each input index gets
 //                       its group's site (rank) and first input index (representative);
-//                       counters[1] = the number of sites
-//   PASS_HULL           the hull's input indices -> site ids
-//   PASS_PREDECESSOR    the hull predecessors, in site ids (the rest filled with -1 before)
-//   PASS_SAMPLE         every params.mode-th site into sorted[] (the grid's sample, star_cells.hpp)
+//                       counters[PREPARE_COUNTER_SITES] = the number of sites
+//   PREPARE_PASS_HULL           the hull's input indices -> site ids
+//   PREPARE_PASS_PREDECESSOR    the hull predecessors, in site ids (the rest filled with -1 before)
+//   PREPARE_PASS_SAMPLE         every params.mode-th site into sorted[] (the grid's sample, star_cells.hpp)
 #extension GL_ARB_gpu_shader_fp64 : enable
+#extension GL_GOOGLE_include_directive : require
+
+#include "host_device.h"
 
 layout(local_size_x_id = 0) in;
 const int RUN_LIMIT = 64;  // as the CUDA backend's kMergeRunLimit
 
-const int PASS_CODES = 0;
-const int PASS_GATHER = 1;
-const int PASS_FIRST_EQUAL = 2;
-const int PASS_KEYS = 3;
-const int PASS_GROUP_START = 4;
-const int PASS_HEAD_POSITION = 5;
-const int PASS_FIRST_OF_GROUP = 6;
-const int PASS_COMPACT = 7;
-const int PASS_HULL = 8;
-const int PASS_PREDECESSOR = 9;
-const int PASS_SAMPLE = 10;
 
 layout(std430, set = 0, binding = 0) buffer Raw { dvec2 raw[]; };  // input order, scaled in place
 layout(std430, set = 0, binding = 1) buffer Keys0 { uvec2 keys0[]; };
@@ -58,18 +50,7 @@ layout(std430, set = 0, binding = 13) buffer HullSites { int hull_sites[]; };
 layout(std430, set = 0, binding = 14) writeonly buffer Predecessor { int predecessor[]; };
 layout(std430, set = 0, binding = 15) buffer Counters { uint counters[]; };
 
-layout(push_constant) uniform Params {
-  dvec2 origin;   // the Quantiser's
-  double scale;   // the Quantiser's
-  double factor;  // the scale: p * factor * second_factor, both powers of two, each exact
-  double second_factor;
-  int count;      // points (PASS_HULL, PASS_PREDECESSOR: hull sites)
-  int pass;
-  int first;      // dispatches are split to respect maxComputeWorkGroupCount
-  int side;       // where the sorted keys and input indices are
-  int mode;       // PASS_KEYS: which key; PASS_SAMPLE: the stride
-  int pad;
-} params;
+layout(push_constant) uniform Push { PrepareParams params; };
 
 // Quantiser::x / y (input/morton.hpp), the same correctly rounded operations.
 uint quantise(double v, double origin) {
@@ -110,28 +91,28 @@ bool same_point(dvec2 a, dvec2 b) { return a.x == b.x && a.y == b.y; }
 void main() {
   const int i = params.first + int(gl_GlobalInvocationID.x);
   if (i >= params.count) return;
-  if (params.pass == PASS_CODES) {
+  if (params.pass == PREPARE_PASS_CODES) {
     precise dvec2 p = raw[i] * params.factor;
     if (params.second_factor != 1.0lf) p = p * params.second_factor;
     raw[i] = p;
     keys0[i] = morton(p);
     values0[i] = i;
-  } else if (params.pass == PASS_KEYS) {
+  } else if (params.pass == PREPARE_PASS_KEYS) {
     const dvec2 p = raw[id_at(i)];
     const uvec2 key = params.mode == 0 ? ordered_bits(p.y) : params.mode == 1 ? ordered_bits(p.x) : morton(p);
     if (params.side == 0)
       keys0[i] = key;
     else
       keys1[i] = key;
-  } else if (params.pass == PASS_GATHER) {
+  } else if (params.pass == PREPARE_PASS_GATHER) {
     sorted[i] = raw[id_at(i)];
-  } else if (params.pass == PASS_FIRST_EQUAL) {
+  } else if (params.pass == PREPARE_PASS_FIRST_EQUAL) {
     const uvec2 code = key_at(i);
     int begin = i;
     while (begin > 0 && key_at(begin - 1) == code && i - begin < RUN_LIMIT) --begin;
     int q = i;
     if (begin > 0 && key_at(begin - 1) == code) {
-      atomicAdd(counters[0], 1u);
+      atomicAdd(counters[PREPARE_COUNTER_LONG_RUN], 1u);
     } else {
       const dvec2 v = sorted[i];
       for (int j = begin; j < i; ++j) {
@@ -143,13 +124,13 @@ void main() {
     }
     first[i] = q;
     heads[i] = q == i ? 1 : 0;
-  } else if (params.pass == PASS_GROUP_START) {
+  } else if (params.pass == PREPARE_PASS_GROUP_START) {
     heads[i] = i == 0 || !same_point(sorted[i - 1], sorted[i]) ? 1 : 0;
-  } else if (params.pass == PASS_HEAD_POSITION) {
+  } else if (params.pass == PREPARE_PASS_HEAD_POSITION) {
     if (i == 0 || heads[i] != heads[i - 1]) rank[heads[i] - 1] = i;
-  } else if (params.pass == PASS_FIRST_OF_GROUP) {
+  } else if (params.pass == PREPARE_PASS_FIRST_OF_GROUP) {
     first[i] = rank[heads[i] - 1];
-  } else if (params.pass == PASS_COMPACT) {
+  } else if (params.pass == PREPARE_PASS_COMPACT) {
     const int group = heads[i];
     const int input_index = id_at(i), f = first[i];
     if (i == 0 || group != heads[i - 1]) {
@@ -158,12 +139,12 @@ void main() {
     }
     rank[input_index] = heads[f] - 1;
     representative[input_index] = id_at(f);
-    if (i == params.count - 1) counters[1] = uint(group);
-  } else if (params.pass == PASS_HULL) {
+    if (i == params.count - 1) counters[PREPARE_COUNTER_SITES] = uint(group);
+  } else if (params.pass == PREPARE_PASS_HULL) {
     hull_sites[i] = rank[hull_input[i]];
-  } else if (params.pass == PASS_PREDECESSOR) {
+  } else if (params.pass == PREPARE_PASS_PREDECESSOR) {
     predecessor[hull_sites[i]] = hull_sites[(i + params.count - 1) % params.count];
-  } else if (params.pass == PASS_SAMPLE) {
+  } else if (params.pass == PREPARE_PASS_SAMPLE) {
     sorted[i] = site_points[i * params.mode];
   }
 }

@@ -3,9 +3,9 @@
 // four bits a pass, for the site preparation on the device (device_preparation.cpp records the
 // passes). Keys are uvec2 (low word, high word): no 64-bit integer types are needed.
 //
-//   PASS_COUNT    each workgroup counts its tile's digits; counts[d * tiles + tile]
+//   RADIX_PASS_COUNT    each workgroup counts its tile's digits; counts[d * tiles + tile]
 //   (scan.comp)   inclusive scan of counts: digit-major, so it orders (digit, tile)
-//   PASS_SCATTER  each workgroup ranks its tile's elements stably and moves them to their place
+//   RADIX_PASS_SCATTER  each workgroup ranks its tile's elements stably and moves them to their place
 //
 // The pairs live on two sides (buffers 0/2 and 1/3); params.side says which one this pass
 // reads, and it writes the other (one descriptor set for every pass of a recording).
@@ -16,14 +16,14 @@
 // gives each (digit, invocation) the number of the tile's elements before it in sorted order.
 #extension GL_GOOGLE_include_directive : require
 
+#include "host_device.h"
+
 layout(local_size_x_id = 0) in;
-const int ITEMS = 8;
-const int RADIX = 16;
+const int ITEMS = RADIX_ITEMS;
+const int RADIX = RADIX_DIGITS;
 const int WORKGROUP = int(gl_WorkGroupSize.x);
 const int TILE = WORKGROUP * ITEMS;
 
-const int PASS_COUNT = 0;
-const int PASS_SCATTER = 1;
 
 layout(std430, set = 0, binding = 0) buffer Keys0 { uvec2 keys0[]; };
 layout(std430, set = 0, binding = 1) buffer Keys1 { uvec2 keys1[]; };
@@ -31,15 +31,7 @@ layout(std430, set = 0, binding = 2) buffer Values0 { uint values0[]; };
 layout(std430, set = 0, binding = 3) buffer Values1 { uint values1[]; };
 layout(std430, set = 0, binding = 4) buffer Counts { int counts[]; };
 
-layout(push_constant) uniform Params {
-  int count;       // elements
-  int tiles;       // (count + TILE - 1) / TILE
-  int shift;       // of this pass's digit in the 64-bit key
-  int side;        // the side this pass reads
-  int first_tile;  // dispatches are split to respect maxComputeWorkGroupCount
-  int pass;
-  int pad[2];
-} params;
+layout(push_constant) uniform Push { RadixParams params; };
 
 shared int table[RADIX * WORKGROUP];
 shared int totals[WORKGROUP];
@@ -67,7 +59,7 @@ void main() {
   const int local = int(gl_LocalInvocationID.x);
   const int tile_begin = tile * TILE;
 
-  if (params.pass == PASS_COUNT) {
+  if (params.pass == RADIX_PASS_COUNT) {
     if (local < RADIX) table[local] = 0;
     barrier();
     for (int k = 0; k < ITEMS; ++k) {  // coalesced: invocations read neighbouring elements
@@ -79,7 +71,7 @@ void main() {
     return;
   }
 
-  // PASS_SCATTER: this invocation's elements, their digits counted in its column of the table.
+  // RADIX_PASS_SCATTER: this invocation's elements, their digits counted in its column of the table.
   for (int d = 0; d < RADIX; ++d) table[d * WORKGROUP + local] = 0;
   uvec2 keys[ITEMS];
   uint values[ITEMS];

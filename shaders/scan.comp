@@ -1,31 +1,22 @@
 #version 450
 // Inclusive prefix sum of int32 in place, over tiles of 4 x workgroup size elements, as a
 // hierarchy the host records level by level (vulkan_backend.cpp, record_scan):
-//   PASS_TILES: each workgroup scans its tile and stores the tile's total in the next level;
-//   PASS_ADD:   each tile after the first adds the scanned total of the tiles before it.
+//   SCAN_PASS_TILES: each workgroup scans its tile and stores the tile's total in the next level;
+//   SCAN_PASS_ADD:   each tile after the first adds the scanned total of the tiles before it.
 // Level 0 is the `data` buffer; higher levels live in `sums` at offsets given by the host.
 // Only workgroup barriers and shared memory: no subgroup operations, so nothing depends on the
 // subgroup size (8 on lavapipe, 32 on NVIDIA).
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x_id = 0) in;
-const int PER_THREAD = 4;
+#include "host_device.h"
 
-const int PASS_TILES = 0;
-const int PASS_ADD = 1;
+layout(local_size_x_id = 0) in;
+const int PER_THREAD = SCAN_PER_THREAD;
 
 layout(std430, set = 0, binding = 0) buffer Data { int data[]; };
 layout(std430, set = 0, binding = 1) buffer Sums { int sums[]; };
 
-layout(push_constant) uniform Params {
-  int count;        // elements of this level
-  int offset;       // where this level starts (in sums when level_in_sums != 0)
-  int level_in_sums;
-  int sums_offset;  // where the next level (one total per tile) starts in sums
-  int first_tile;   // dispatches are split to respect maxComputeWorkGroupCount
-  int pass;
-  int pad[2];
-} params;
+layout(push_constant) uniform Push { ScanParams params; };
 
 shared int thread_totals[gl_WorkGroupSize.x];
 const int WORKGROUP = int(gl_WorkGroupSize.x);
@@ -42,7 +33,7 @@ void main() {
   const int tile = params.first_tile + int(gl_WorkGroupID.x);
   const int local = int(gl_LocalInvocationID.x);
   const int base = tile * WORKGROUP * PER_THREAD + local * PER_THREAD;
-  if (params.pass == PASS_ADD) {
+  if (params.pass == SCAN_PASS_ADD) {
     if (tile == 0) return;
     const int before = sums[params.sums_offset + tile - 1];
     for (int k = 0; k < PER_THREAD; ++k)

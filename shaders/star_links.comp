@@ -11,8 +11,10 @@
 // owner deferred was not emitted: its slot is no_neighbor (-1), as for hull edges.
 #extension GL_GOOGLE_include_directive : require
 
+#include "host_device.h"
+
 layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const int STAR_CAPACITY = 16;
+layout(constant_id = LINKS_SPEC_CAPACITY) const int STAR_CAPACITY = 16;
 
 layout(std430, set = 0, binding = 0) readonly buffer Star { ivec4 star4[]; };
 layout(std430, set = 0, binding = 1) readonly buffer SiteInfo { ivec2 site_info[]; };
@@ -21,12 +23,7 @@ layout(std430, set = 0, binding = 3) writeonly buffer Unresolved { int unresolve
 // [4] unresolved slots, [5] loop cap hit (results void), [6] unresolved overflow
 layout(std430, set = 0, binding = 4) buffer Counters { uint counters[]; };
 
-layout(push_constant) uniform Params {
-  int site_count;
-  int first_site;
-  int unresolved_capacity;
-  int pad;
-} params;
+layout(push_constant) uniform Push { LinkParams params; };
 
 #include "star_common.glsl"
 
@@ -81,9 +78,9 @@ void main() {
       bool inside = from_a ? (p > 0 || star_closed(io)) : (p < star_degree(io) - 1 || star_closed(io));
       if (p >= 0 && inside) r = star_at(ro, io, from_a ? p - 1 : p + 1);
     } else {
-      uint at = atomicAdd(counters[4], 1u);
+      uint at = atomicAdd(counters[COUNTER_UNRESOLVED], 1u);
       if (int(at) < params.unresolved_capacity) unresolved[int(at)] = 3 * at_out;
-      else atomicAdd(counters[6], 1u);
+      else atomicAdd(counters[COUNTER_UNRESOLVED_OVERFLOW], 1u);
     }
     int across_ab = r >= 0 ? triangle_index(b, a, r) : -1;
     // Opposite a: (s, b, next); opposite b: (s, previous, a).
@@ -98,5 +95,5 @@ void main() {
   // been cut short, and the host discards the whole adjacency.
   int canary = 0;
   for (int i = 0; i < min(params.site_count, 2); ++i) ++canary;
-  if (canary != 2) atomicAdd(counters[5], 1u);
+  if (canary != 2) atomicAdd(counters[COUNTER_LINKS_CUT], 1u);
 }

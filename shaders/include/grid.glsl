@@ -159,11 +159,11 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
         dvec2 p = site_at(ip);
         if (apex >= 0 && clearly_outside(circle, p)) continue;
         int o = orient2d_device(a, b, p);
-        if (o == UNCERTAIN) return SEARCH_DEFER;
+        if (o == uncertain) return SEARCH_DEFER;
         if (o <= 0) continue;
         if (apex >= 0) {
           int s = incircle_perturbed_device(a, b, best_p, p);
-          if (s == UNCERTAIN) return SEARCH_DEFER;
+          if (s == uncertain) return SEARCH_DEFER;
           if (s <= 0) continue;
         }
         apex = ip;
@@ -187,7 +187,7 @@ int apex_search(Grid g, int ia, int ib, dvec2 a, dvec2 b, out int apex, out int 
 // Nearest other site of s by an exact comparison of squared distances (exactly equal distances
 // may resolve either way: any exact nearest neighbour is a Delaunay neighbour).
 // SEARCH_OUTSIDE when the disc reaches cells the grid does not hold.
-int nearest_search(Grid g, int is, out int nearest, out int nearest_slot) {
+int nearest_site(Grid g, int is, out int nearest, out int nearest_slot) {
   nearest = -1;
   nearest_slot = -1;
   dvec2 s = site_at(is);

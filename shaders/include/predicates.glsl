@@ -1,13 +1,13 @@
 // Device predicates: the host's error-bounded filters and exactness certificates
 // (engine/src/predicates/exact_arith.hpp), transcribed in the same operation order. There is no
-// device expansion arithmetic: what neither can decide returns UNCERTAIN and the caller defers
+// device expansion arithmetic: what neither can decide returns uncertain and the caller defers
 // the expansion to the exact CPU seam stage.
 #ifndef EXPANSE_PREDICATES_GLSL
 #define EXPANSE_PREDICATES_GLSL
 
 #include "eft.glsl"
 
-const int UNCERTAIN = 2;
+#include "host_device.h"
 const double EPS = 1.1102230246251565e-16lf;  // 2^-53
 const double ORIENT_BOUND = (3.0lf + 16.0lf * EPS) * EPS;
 const double INCIRCLE_BOUND = (10.0lf + 96.0lf * EPS) * EPS;
@@ -25,7 +25,7 @@ int orient2d_filter(dvec2 a, dvec2 b, dvec2 c) {
   precise double bound = ORIENT_BOUND * permanent + UNDERFLOW_SLACK;
   if (det > bound) return 1;
   if (-det > bound) return -1;
-  return UNCERTAIN;
+  return uncertain;
 }
 
 int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
@@ -48,7 +48,7 @@ int incircle_filter(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   precise double bound = INCIRCLE_BOUND * permanent + UNDERFLOW_SLACK * losses;
   if (det > bound) return 1;
   if (-det > bound) return -1;
-  return UNCERTAIN;
+  return uncertain;
 }
 
 // The apex filters in the edge's frame (engine/src/predicates/apex_filter.hpp, where their
@@ -67,7 +67,7 @@ struct ApexLift {
 };
 
 int sign_beyond(double det, double bound) {
-  return det > bound ? 1 : (-det > bound ? -1 : UNCERTAIN);
+  return det > bound ? 1 : (-det > bound ? -1 : uncertain);
 }
 
 // P = p - a and |P|^2.
@@ -100,7 +100,7 @@ ApexLift apex_lift(dvec2 edge, double b2, dvec3 p) {
 
 int apex_orient_filter(ApexLift p) {
   precise double bound = APEX_ORIENT_BOUND * p.k_perm;
-  return p.k_perm >= 6.26302612502804e-294lf ? sign_beyond(p.k, bound) : UNCERTAIN;  // 2^-974
+  return p.k_perm >= 6.26302612502804e-294lf ? sign_beyond(p.k, bound) : uncertain;  // 2^-974
 }
 
 // incircle(a, b, c, p) from c's lift as apex_incircle_filter forms it: exact on small integer
@@ -118,7 +118,7 @@ int apex_incircle_filter(ApexLift c, dvec3 p) {
   precise double bound = APEX_INCIRCLE_BOUND * permanent;
   // Underflow losses under 21 * 2^-969 for |coordinates| < 1 (apex_filter.hpp).
   bool trusted = permanent >= 6.413338752028713e-291lf;  // 2^-964
-  return trusted ? sign_beyond(det, bound) : UNCERTAIN;
+  return trusted ? sign_beyond(det, bound) : uncertain;
 }
 
 bool in_safe_range(double v) {
@@ -130,7 +130,7 @@ bool in_safe_range(double v) {
 bool safe2(dvec2 p) { return in_safe_range(p.x) && in_safe_range(p.y); }
 
 int orient2d_certified(dvec2 a, dvec2 b, dvec2 c) {
-  if (!(safe2(a) && safe2(b) && safe2(c))) return UNCERTAIN;
+  if (!(safe2(a) && safe2(b) && safe2(c))) return uncertain;
   double e0, e1, e2, e3, e4, e5, e6;
   precise double acx = two_diff(a.x, c.x, e0);
   precise double bcy = two_diff(b.y, c.y, e1);
@@ -141,7 +141,7 @@ int orient2d_certified(dvec2 a, dvec2 b, dvec2 c) {
   precise double det = two_diff(left, right, e6);
   bool exact = e0 == 0.0lf && e1 == 0.0lf && e2 == 0.0lf && e3 == 0.0lf && e4 == 0.0lf &&
                e5 == 0.0lf && e6 == 0.0lf;
-  if (!exact) return UNCERTAIN;
+  if (!exact) return uncertain;
   return int(det > 0.0lf) - int(det < 0.0lf);
 }
 
@@ -173,7 +173,7 @@ double squared_distance_certified(dvec2 p, dvec2 q, inout bool ok) {
 }
 
 int incircle_certified(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
-  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
+  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return uncertain;
   bool ok = true;
   precise double adx = cdiff(a.x, d.x, ok), ady = cdiff(a.y, d.y, ok);
   precise double bdx = cdiff(b.x, d.x, ok), bdy = cdiff(b.y, d.y, ok);
@@ -185,7 +185,7 @@ int incircle_certified(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   precise double b_term = cprod(blift, cdiff(cprod(cdx, ady, ok), cprod(adx, cdy, ok), ok), ok);
   precise double c_term = cprod(clift, cdiff(cprod(adx, bdy, ok), cprod(bdx, ady, ok), ok), ok);
   precise double det = csum(csum(a_term, b_term, ok), c_term, ok);
-  if (!ok) return UNCERTAIN;
+  if (!ok) return uncertain;
   return int(det > 0.0lf) - int(det < 0.0lf);
 }
 
@@ -216,17 +216,17 @@ const int EXACT_TERMS = 40;  // a non-overlapping expansion within the safe rang
 int expansion_sign(double top) { return int(top > 0.0lf) - int(top < 0.0lf); }
 
 // incircle's exact sign where the six coordinate differences against d are exact, else
-// UNCERTAIN: exact_arith.hpp's incircle_exact_differences_grown, the determinant's 96 exact
+// uncertain: exact_arith.hpp's incircle_exact_differences_grown, the determinant's 96 exact
 // products grown term by term into one expansion of at most EXACT_TERMS doubles. Decimal grids
 // and other nearly cocircular float inputs: nearby sites of one magnitude have exact differences
 // (Sterbenz).
 int incircle_exact_differences(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
-  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return UNCERTAIN;
+  if (!(safe2(a) && safe2(b) && safe2(c) && safe2(d))) return uncertain;
   bool ok = true;
   precise dvec2 ad = dvec2(cdiff(a.x, d.x, ok), cdiff(a.y, d.y, ok));
   precise dvec2 bd = dvec2(cdiff(b.x, d.x, ok), cdiff(b.y, d.y, ok));
   precise dvec2 cd = dvec2(cdiff(c.x, d.x, ok), cdiff(c.y, d.y, ok));
-  if (!ok) return UNCERTAIN;
+  if (!ok) return uncertain;
   double h[EXACT_TERMS];
   int len = 0;
   bool fits = true;
@@ -250,16 +250,16 @@ int incircle_exact_differences(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
       EXPANSION_GROW(p)
     }
   }
-  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+  return fits ? expansion_sign(h[len - 1]) : uncertain;
 }
 
-// orient2d's exact sign where the four coordinate differences are exact, else UNCERTAIN.
+// orient2d's exact sign where the four coordinate differences are exact, else uncertain.
 int orient2d_exact_differences(dvec2 a, dvec2 b, dvec2 c) {
-  if (!(safe2(a) && safe2(b) && safe2(c))) return UNCERTAIN;
+  if (!(safe2(a) && safe2(b) && safe2(c))) return uncertain;
   bool ok = true;
   precise double acx = cdiff(a.x, c.x, ok), bcy = cdiff(b.y, c.y, ok);
   precise double acy = cdiff(a.y, c.y, ok), bcx = cdiff(b.x, c.x, ok);
-  if (!ok) return UNCERTAIN;
+  if (!ok) return uncertain;
   double h[EXACT_TERMS];
   int len = 0;
   bool fits = true;
@@ -270,17 +270,17 @@ int orient2d_exact_differences(dvec2 a, dvec2 b, dvec2 c) {
   EXPANSION_GROW(left)
   EXPANSION_GROW(-e2)
   EXPANSION_GROW(-right)
-  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+  return fits ? expansion_sign(h[len - 1]) : uncertain;
 }
 
-// Sign of |p - s|^2 - |q - s|^2 where the four coordinate differences are exact, else UNCERTAIN
+// Sign of |p - s|^2 - |q - s|^2 where the four coordinate differences are exact, else uncertain
 // (the nearest-neighbour comparison of nearly cocircular float inputs).
 int compare_distance_exact_differences(dvec2 s, dvec2 p, dvec2 q) {
-  if (!(safe2(s) && safe2(p) && safe2(q))) return UNCERTAIN;
+  if (!(safe2(s) && safe2(p) && safe2(q))) return uncertain;
   bool ok = true;
   precise dvec2 ps = dvec2(cdiff(p.x, s.x, ok), cdiff(p.y, s.y, ok));
   precise dvec2 qs = dvec2(cdiff(q.x, s.x, ok), cdiff(q.y, s.y, ok));
-  if (!ok) return UNCERTAIN;
+  if (!ok) return uncertain;
   double h[EXACT_TERMS];
   int len = 0;
   bool fits = true;
@@ -292,19 +292,19 @@ int compare_distance_exact_differences(dvec2 s, dvec2 p, dvec2 q) {
     EXPANSION_GROW(sign * e)
     EXPANSION_GROW(sign * square)
   }
-  return fits ? expansion_sign(h[len - 1]) : UNCERTAIN;
+  return fits ? expansion_sign(h[len - 1]) : uncertain;
 }
 
-// Filter, then certificate; UNCERTAIN only when both give up.
+// Filter, then certificate; uncertain only when both give up.
 int orient2d_device(dvec2 a, dvec2 b, dvec2 c) {
   int s = orient2d_filter(a, b, c);
-  if (s != UNCERTAIN) return s;
+  if (s != uncertain) return s;
   return orient2d_certified(a, b, c);
 }
 
 int incircle_device(dvec2 a, dvec2 b, dvec2 c, dvec2 d) {
   int s = incircle_filter(a, b, c, d);
-  if (s != UNCERTAIN) return s;
+  if (s != uncertain) return s;
   return incircle_certified(a, b, c, d);
 }
 
@@ -333,11 +333,11 @@ int cocircular_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q, bool diff
     int o;
     dvec2 u = w == 2 ? p0 : (w == 1 ? p0 : q), v = w == 2 ? p1 : (w == 1 ? q : p1), x = w == 2 ? q : p2;
     o = orient2d_device(u, v, x);
-    if (o == UNCERTAIN && differences) o = orient2d_exact_differences(u, v, x);
-    if (o == UNCERTAIN) return UNCERTAIN;
+    if (o == uncertain && differences) o = orient2d_exact_differences(u, v, x);
+    if (o == uncertain) return uncertain;
     if (o != 0) return o;
   }
-  return UNCERTAIN;  // unreachable for distinct sites and a CCW triangle
+  return uncertain;  // unreachable for distinct sites and a CCW triangle
 }
 
 // cocircular_perturbed_device on a small integer lattice (engine/src/predicates/exact_lattice.hpp),
@@ -356,12 +356,12 @@ int cocircular_perturbed_lattice(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   int o0 = int(sign(d0)), o1 = int(sign(d1)), o2 = int(sign(d2));
   int first = r2 == 3 ? o2 : (r1 == 3 ? o1 : o0);    // the largest point's orientation
   int second = r2 == 2 ? o2 : (r1 == 2 ? o1 : o0);   // the next one's
-  return r3 == 3 ? -1 : (first != 0 ? first : (r3 == 2 ? -1 : (second != 0 ? second : UNCERTAIN)));
+  return r3 == 3 ? -1 : (first != 0 ? first : (r3 == 2 ? -1 : (second != 0 ? second : uncertain)));
 }
 
 // CGAL's Delaunay_triangulation_2::side_of_oriented_circle(p0, p1, p2, q, perturb = true) for
 // CCW (p0, p1, p2) and q distinct from them: +1 inside the perturbed circle, -1 outside, never 0;
-// UNCERTAIN when an unperturbed sign could not be decided on the device.
+// uncertain when an unperturbed sign could not be decided on the device.
 int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   int s = incircle_device(p0, p1, p2, q);
   return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q, false);
@@ -371,7 +371,7 @@ int incircle_perturbed_device(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
 // filter and certificate give up.
 int incircle_perturbed_exact_differences(dvec2 p0, dvec2 p1, dvec2 p2, dvec2 q) {
   int s = incircle_device(p0, p1, p2, q);
-  if (s == UNCERTAIN) s = incircle_exact_differences(p0, p1, p2, q);
+  if (s == uncertain) s = incircle_exact_differences(p0, p1, p2, q);
   return s != 0 ? s : cocircular_perturbed_device(p0, p1, p2, q, true);
 }
 

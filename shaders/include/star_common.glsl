@@ -1,30 +1,17 @@
 // Star bookkeeping shared by star.comp (which writes the stars) and star_links.comp (which
-// derives adjacency from them); the CUDA backend keeps its own (cuda_backend/star_common.cuh).
+// derives adjacency from them); the info word and the row length are host_device.h's (the host
+// reads the stars too); the CUDA backend keeps its own (cuda_backend/star_common.cuh).
 //
 // The star of s is row s of `star4[]`: 16 ints as four ivec4, read and written whole (on
 // lavapipe every buffer access costs a loop over the lanes, whatever its width, so one ivec4
-// costs what one int does). Per-site info packs
-//   bits 0-4 degree, bits 5-8 start index in the row, STAR_CLOSED, STAR_DEFERRED (bit 11 with
-//   it: STAR_HANDED_ON, between star.comp's light pass and its retry),
-//   bits 16-31: bit t set when s owns its t-th star triangle (s smallest of its three sites).
-// The t-th neighbour counter-clockwise is at row index (start + t) & 15. No integer division
+// costs what one int does). The t-th neighbour counter-clockwise is at row index
+// (start + t) & 15. No integer division
 // anywhere: lavapipe has no vector integer divide and runs `%` lane by lane.
 #ifndef EXPANSE_STAR_COMMON_GLSL
 #define EXPANSE_STAR_COMMON_GLSL
 
-const int STAR_ROW = 16;
-const uint STAR_CLOSED = 1u << 9;
-const uint STAR_DEFERRED = 1u << 10;
-// Left by the light first pass for the retry pass (star.comp's EXACT_PATH): deferred, so far.
-const uint STAR_HANDED_ON = STAR_DEFERRED | (1u << 11);
+#include "host_device.h"
 
-int star_degree(uint info) { return int(info & 31u); }
-int star_start(uint info) { return int((info >> 5) & 15u); }
-bool star_closed(uint info) { return (info & STAR_CLOSED) != 0u; }
-bool star_deferred(uint info) { return (info & STAR_DEFERRED) != 0u; }
-uint star_owned(uint info) { return info >> 16; }
-// Number of triangles in the star (one less than the degree when it meets the hull).
-int star_triangles(uint info) { return star_closed(info) ? star_degree(info) : star_degree(info) - 1; }
 // Output index of the t-th triangle of an owner whose first triangle is `base`.
 int star_output(int base, uint info, int t) {
   return base + bitCount(star_owned(info) & ((1u << uint(t)) - 1u));

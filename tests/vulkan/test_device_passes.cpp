@@ -142,7 +142,7 @@ void check_same_output(const std::string& name, const std::vector<Point2>& point
   unsetenv("EXPANSE_VULKAN_STAGED");
 }
 
-// The stars in one class (the GPU default) as a light pass without the exact path and a retry
+// The stars in one phase (the GPU default) as a light first_pass without the exact path and a retry
 // of the sites it hands on (star.comp's EXACT_PATH, RETRY), against one full pass: every
 // triangle of the full pass, and no more deferrals. The retry also decides incircles from exact
 // coordinate differences (EXACT_DIFFERENCES), which the full pass does not, so it may make
@@ -154,12 +154,12 @@ void check_light_pass(const std::string& name, const std::vector<Point2>& points
   const detail::SiteSet sites = detail::prepare_sites(points);
   const detail::Hull hull = detail::convex_hull(sites);
   const Layout layout{};
-  setenv("EXPANSE_VULKAN_STAR_PASSES", "1", 1);
+  setenv("EXPANSE_VULKAN_PHASES", "1", 1);
   setenv("EXPANSE_VULKAN_LIGHT_PASS", "0", 1);
   const detail::GrowResult full = detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
   unsetenv("EXPANSE_VULKAN_LIGHT_PASS");
   const detail::GrowResult light = detail::make_vulkan_backend(-1)->grow({sites, hull, layout});
-  unsetenv("EXPANSE_VULKAN_STAR_PASSES");
+  unsetenv("EXPANSE_VULKAN_PHASES");
   const std::vector<Triangle> full_triangles = canonical(full.partial.triangles);
   const std::vector<Triangle> light_triangles = canonical(light.partial.triangles);
   VK_CHECK_THAT(std::includes(light_triangles.begin(), light_triangles.end(), full_triangles.begin(),

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backends/vulkan/vulkan_backend.hpp"
+#include "host_device.h"
 #include "harness.hpp"
 #include "predicates/apex_filter.hpp"
 #include "predicates/exact_arith.hpp"
@@ -94,7 +95,7 @@ void test_predicates() {
   long differences_decided = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
-    const std::int32_t* s = &signs[detail::vk::kPredicateSigns * i];
+    const std::int32_t* s = &signs[std::size_t(detail::vk::shared::PREDICATE_TEST_SIGNS) * i];
     namespace ex = detail::exact;
     const int host_of = ex::orient2d_filter(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);
     const int host_oc = ex::orient2d_certified(c.a.x, c.a.y, c.b.x, c.b.y, c.c.x, c.c.y);

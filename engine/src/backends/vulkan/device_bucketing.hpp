@@ -30,14 +30,10 @@ struct BucketingBuffers {
   Buffer* to_sorted;          // n int, scratch
   Buffer* predecessor;        // n int: hull predecessors in sorted ids, for the star kernel
   Buffer* triangles;          // star kernel output, mapped back in place
-  Buffer* counters;           // star kernel counters: [0] triangles; [8], [9] set here
+  Buffer* counters;           // star kernel counters: COUNTER_CROWDED_CELL, COUNTER_INVALID_ID set here
   Buffer* scan_sums;          // scan_sums_bytes(cells^2 + 1)
   Buffer* cell_bounds;        // quantile cells' boundaries (star_cells.hpp); any buffer else
 };
-
-/// counters[] words bucket.comp sets (the star kernel uses 0..3, star_links.comp 4..6).
-constexpr std::size_t crowded_cell_counter = 8;      // a cell too large to rank: bucket on the host
-constexpr std::size_t invalid_site_id_counter = 9;   // the star kernel emitted an id out of range
 
 class DeviceBucketing {
  public:
@@ -49,16 +45,15 @@ class DeviceBucketing {
   /// Points the kernels at these buffers; only between submissions.
   void bind(const BucketingBuffers& buffers);
   /// Records the sort of `sites` sites into the grid: fills cell_start, sorted_sites, to_site
-  /// and predecessor, and zeroes counters. Needs input_sites and input_predecessor written
-  /// (and visible: a barrier after the upload).
+  /// and predecessor, and zeroes counters (COUNTER_CROWDED_CELL: a cell too large to rank).
+  /// Needs input_sites and input_predecessor written (and visible: a barrier after the upload).
   void record_sort(Recording& rec, const GridShape& grid, std::size_t sites);
   /// Records the mapping of the star kernel's triangles (at most triangle_capacity, counted in
-  /// counters[0]) from sorted ids to SiteSet ids; an id out of range sets counters[9].
+  /// counters[COUNTER_TRIANGLES]) from sorted ids to SiteSet ids; an id out of range sets
+  /// counters[COUNTER_INVALID_ID].
   void record_restore(Recording& rec, std::size_t sites, std::size_t triangle_capacity);
 
  private:
-  void dispatch_over(Recording& rec, Kernel& kernel, void* params, std::int32_t& first,
-                     std::size_t count);
   Context& context_;
   std::uint32_t workgroup_;
   Kernel* bucket_ = nullptr;

@@ -8,6 +8,7 @@
 
 #include "backends/vulkan/device_scan.hpp"
 #include "backends/vulkan/vk_context.hpp"
+#include "host_device.h"
 
 namespace expanse::detail::vk {
 
@@ -29,12 +30,8 @@ struct PreparationBuffers {
   Buffer* hull_input;      // the hull's input indices (bind again once they are known)
   Buffer* hull_sites;      // the hull in site ids
   Buffer* predecessor;     // n int: hull predecessors in site ids, -1 elsewhere
-  Buffer* counters;        // 64 bytes: [0] a run of equal codes too long; [1] the sites
+  Buffer* counters;        // 64 bytes: PREPARE_COUNTER_LONG_RUN, PREPARE_COUNTER_SITES
 };
-
-/// counters[] words prepare_sites.comp sets.
-constexpr std::size_t long_run_counter = 0;
-constexpr std::size_t site_count_counter = 1;
 
 /// How the points are scaled and quantised: p * factor * second_factor (powers of two, each
 /// multiplication exact), then the Quantiser's origin and scale.
@@ -54,13 +51,14 @@ class DevicePreparation {
   /// Points the kernels at these buffers; only between submissions.
   void bind(const PreparationBuffers& buffers);
   /// Records: scale, Morton codes, the sort by code (stable), the points in that order, and
-  /// the search for equal points through runs of equal codes. counters[long_run_counter] != 0
-  /// afterwards: a run was too long to search, and record_sort_by_point must follow.
+  /// the search for equal points through runs of equal codes. A nonzero
+  /// counters[PREPARE_COUNTER_LONG_RUN] afterwards: a run was too long to search, and
+  /// record_sort_by_point must follow.
   void record_sort(Recording& rec, std::size_t n, const PreparationScale& scale);
   /// Records the sort by (code, x, y), which puts equal points side by side, and their groups.
   void record_sort_by_point(Recording& rec, std::size_t n);
-  /// Records the compaction of the groups' first points into the sites (counters[1]: how many),
-  /// the input-to-site map and the representatives.
+  /// Records the compaction of the groups' first points into the sites
+  /// (counters[PREPARE_COUNTER_SITES]: how many), the input-to-site map and the representatives.
   void record_compact(Recording& rec, std::size_t n);
   /// Records the hull's input indices (hull_input) -> site ids (hull_sites), and predecessor.
   void record_hull(Recording& rec, std::size_t hull_count);
@@ -68,8 +66,7 @@ class DevicePreparation {
   void record_sample(Recording& rec, std::size_t count, std::size_t stride);
 
  private:
-  struct Params;
-  void dispatch_prepare(Recording& rec, Params& params, int pass, std::size_t count);
+  void dispatch_prepare(Recording& rec, shared::PrepareParams& params, int pass, std::size_t count);
   void record_radix(Recording& rec, std::size_t n, int bits);
   Context& context_;
   std::uint32_t workgroup_, sort_workgroup_;

@@ -3,26 +3,12 @@
 
 #include <algorithm>
 
+#include "backends/vulkan/dispatch.hpp"
 #include "backends/vulkan/shader_registry.hpp"
+#include "host_device.h"
 
 namespace expanse::detail::vk {
-namespace {
-
-// scan.comp's push constants and passes.
-struct ScanParams {
-  std::int32_t count;
-  std::int32_t offset;
-  std::int32_t level_in_sums;
-  std::int32_t sums_offset;
-  std::int32_t first_tile;
-  std::int32_t pass;
-  std::int32_t pad[2];
-};
-static_assert(sizeof(ScanParams) == 32);
-enum ScanPass : std::int32_t { pass_tiles = 0, pass_add };
-constexpr std::size_t scan_per_thread = 4;  // scan.comp's PER_THREAD
-
-}  // namespace
+using namespace shared;
 
 DeviceScan::DeviceScan(Context& context, const std::string& name) : context_(context) {
   const auto& limits = context.limits();
@@ -33,7 +19,7 @@ DeviceScan::DeviceScan(Context& context, const std::string& name) : context_(con
 }
 
 VkDeviceSize DeviceScan::sums_bytes(std::size_t count) const {
-  const std::size_t tile = scan_per_thread * workgroup_;
+  const std::size_t tile = std::size_t(SCAN_PER_THREAD) * workgroup_;
   std::size_t total = 0;
   do {
     count = (count + tile - 1) / tile;  // one total per tile of this level
@@ -51,22 +37,16 @@ void DeviceScan::bind(Buffer& data, Buffer& sums) {
 // totals at sums_offset of the sums; the levels above are scanned recursively.
 void DeviceScan::record_level(Recording& rec, std::size_t count, std::size_t offset, bool in_sums,
                               std::size_t sums_offset) {
-  const std::size_t tile = scan_per_thread * workgroup_;
+  const std::size_t tile = std::size_t(SCAN_PER_THREAD) * workgroup_;
   const std::size_t tiles = (count + tile - 1) / tile;
-  const std::size_t max_groups = context_.limits().maxComputeWorkGroupCount[0];
-  ScanParams params{std::int32_t(count), std::int32_t(offset), in_sums ? 1 : 0,
-                    std::int32_t(sums_offset), 0, pass_tiles, {0, 0}};
-  auto each_tile = [&] {
-    for (std::size_t first = 0; first < tiles; first += max_groups) {
-      params.first_tile = std::int32_t(first);
-      rec.dispatch(*kernel_, &params, std::uint32_t(std::min(tiles - first, max_groups)));
-    }
-  };
+  ScanParams params{int(count), int(offset), in_sums ? 1 : 0, int(sums_offset), 0, SCAN_PASS_TILES, 0, 0};
+  // One workgroup a tile.
+  auto each_tile = [&] { dispatch_over(context_, rec, *kernel_, params, params.first_tile, tiles, 1); };
   each_tile();
   rec.barrier();
   if (tiles <= 1) return;
   record_level(rec, tiles, sums_offset, true, sums_offset + tiles);
-  params.pass = pass_add;
+  params.pass = SCAN_PASS_ADD;
   each_tile();
   rec.barrier();
 }

@@ -2,8 +2,6 @@
 #include "backends/vulkan/star_cells.hpp"
 
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <functional>
 #include <future>
 
@@ -83,22 +81,22 @@ UniformPlan uniform_cells(const SiteSample& sample, std::size_t n, const Box& bo
 
 // Ascending boundaries along one axis: boundary j (1 .. cells - 1) is the (j / cells)-quantile
 // of the sample's coordinates, heavy tails weighed (grid/quantile_tails.hpp; kuzmin 10^6 on
-// lavapipe: its seam share 0.57% -> 0.19%, medians of five runs 1,931 -> 1,862 ms;
-// EXPANSE_VULKAN_TAILS=0 for plain quantiles).
+// lavapipe: its seam share 0.57% -> 0.19%, medians of five runs 1,931 -> 1,862 ms, against
+// plain quantiles).
 void quantile_bounds(const SiteSample& sample, std::size_t stride, std::size_t samples, int cells, bool y,
                      double* out) {
   std::vector<double> v(samples);
   for (std::size_t k = 0; k < samples; ++k) v[k] = y ? sample[k * stride].y : sample[k * stride].x;
   std::sort(v.begin(), v.end());
   const int count = int(samples);
-  const QuantileTails tails = quantile_tails(v.data(), count, parse_tail_weighing(std::getenv("EXPANSE_VULKAN_TAILS")));
+  const QuantileTails tails = quantile_tails(v.data(), count, TailWeighing{});
   for (int j = 1; j < cells; ++j) out[j - 1] = quantile_boundary(v.data(), count, cells, j, tails);
 }
 
 }  // namespace
 
 StarCells plan_star_cells(const SiteSample& sample, std::size_t n, const Box& bounds, double per_bucket,
-                          VkDeviceSize max_buffer) {
+                          VkDeviceSize max_buffer, Tuning::Cells cells) {
   StarCells g;
   // Quantile cells where uniform ones would crowd the typical site's cells: kuzmin inputs, whose
   // dense centre is far finer than the coarse histogram (1M sites on lavapipe: 976 sites to the
@@ -106,13 +104,8 @@ StarCells plan_star_cells(const SiteSample& sample, std::size_t n, const Box& bo
   // with quantile cells). Elsewhere uniform cells are cheaper to look up and to walk: gaussian
   // 1M on lavapipe, star shader 0.99 s against 2.26 s with quantile cells (2026-11-25).
   const UniformPlan uniform = uniform_cells(sample, n, bounds, per_bucket, max_buffer);
-  const char* kind = std::getenv("EXPANSE_VULKAN_CELLS");
-  if (kind && std::strcmp(kind, "quantile") == 0)
-    g.quantile = true;
-  else if (kind && std::strcmp(kind, "uniform") == 0)
-    g.quantile = false;
-  else
-    g.quantile = uniform.occupancy > 4.0 * per_bucket;
+  g.quantile = cells == Tuning::Cells::automatic ? uniform.occupancy > 4.0 * per_bucket
+                                                  : cells == Tuning::Cells::quantile;
   if (g.quantile) {
     // Every row and column holds about 1/cells of the sites, so a cell holds per_bucket of them
     // on average (more near a cluster's centre, where a row and a column of it meet).

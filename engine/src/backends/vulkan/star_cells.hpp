@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "backends/vulkan/tuning.hpp"
 #include "input/site_set.hpp"
 
 namespace expanse::detail::vk {
@@ -64,10 +65,9 @@ inline SiteSample star_cell_sample(const SiteSet& sites) {
 }
 
 /// The star grid for n sites in `bounds`, planned from their sample: quantile cells where uniform ones would crowd the typical
-/// site's cells (EXPANSE_VULKAN_CELLS=uniform or =quantile overrides), about `per_bucket` sites
-/// to a cell;
-/// at most as many cells as a buffer of `max_buffer` bytes holds starts for.
+/// site's cells (`cells` other than automatic forces one kind), about `per_bucket` sites to a
+/// cell; at most as many cells as a buffer of `max_buffer` bytes holds starts for.
 StarCells plan_star_cells(const SiteSample& sample, std::size_t n, const Box& bounds, double per_bucket,
-                          VkDeviceSize max_buffer);
+                          VkDeviceSize max_buffer, Tuning::Cells cells);
 
 }  // namespace expanse::detail::vk

@@ -1,6 +1,7 @@
 // Vulkan structs are value-initialised from their sType alone ({VK_STRUCTURE_TYPE_...}).
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include "backends/vulkan/vk_context.hpp"
+#include "backends/vulkan/tuning.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -69,10 +70,7 @@ const char* type_name(VkPhysicalDeviceType type) {
   }
 }
 
-bool validation_requested() {
-  const char* value = std::getenv("EXPANSE_VULKAN_VALIDATION");
-  return value != nullptr && std::strcmp(value, "0") != 0 && value[0] != '\0';
-}
+bool validation_requested() { return tuning_from_environment().validation; }
 
 bool has_layer(const char* name) {
   std::uint32_t count = 0;
@@ -413,11 +411,8 @@ Kernel& Context::kernel(const std::string& name, std::span<const std::uint32_t> 
 
 StagingRing& Context::staging() {
   if (!staging_) {
-    // 2 x 32 MiB, as the CUDA backend's pinned staging; EXPANSE_VULKAN_STAGING_MB sets a slot's
-    // size (experiments).
-    VkDeviceSize chunk = VkDeviceSize(32) << 20;
-    if (const char* env = std::getenv("EXPANSE_VULKAN_STAGING_MB"))
-      chunk = VkDeviceSize(std::max(1L, std::atol(env))) << 20;
+    // 2 x 32 MiB by default, as the CUDA backend's pinned staging (Tuning::staging_mb).
+    const VkDeviceSize chunk = VkDeviceSize(tuning_from_environment().staging_mb) << 20;
     staging_ = std::make_unique<StagingRing>(*this, chunk, 2);
   }
   return *staging_;
@@ -428,8 +423,7 @@ void Context::wait_staging() {
 }
 
 VkDeviceSize Context::keep_bytes() const {
-  if (const char* env = std::getenv("EXPANSE_VULKAN_KEEP_MB"); env && *env)
-    return VkDeviceSize(std::max(0L, std::atol(env))) << 20;
+  if (const std::int64_t keep = tuning_from_environment().keep_mb; keep >= 0) return VkDeviceSize(keep) << 20;
   VkDeviceSize heap = 0;
   for (std::uint32_t i = 0; i < memory_.memoryHeapCount; ++i)
     if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)

@@ -26,8 +26,8 @@ std::shared_ptr<Context> shared_context(int index);
 std::unique_ptr<Backend> make_backend_on(std::shared_ptr<Context> context);
 
 /// Runs shaders/predicate_test.comp. cases: 8 doubles per case (points a, b, c, d).
-/// signs: kPredicateSigns ints per case; eft: 4 doubles per case (see the shader).
-inline constexpr std::size_t kPredicateSigns = 12;
+/// signs: PREDICATE_TEST_SIGNS ints per case; eft: PREDICATE_TEST_EFT doubles per case
+/// (host_device.h, and the shader).
 void run_predicate_kernel(Context& context, std::span<const double> cases,
                           std::vector<std::int32_t>& signs, std::vector<double>& eft);
 

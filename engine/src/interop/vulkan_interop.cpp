@@ -6,7 +6,7 @@
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include "expanse/vulkan_interop.hpp"
 
-#include <chrono>
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -17,22 +17,23 @@
 #include "backends/vulkan/vk_context.hpp"
 #include "backends/vulkan/vulkan_backend.hpp"
 #include "expanse/error.hpp"
+#include "host_device.h"
 #include "pipeline/run_pipeline.hpp"
+#include "support/timing.hpp"
 
 namespace expanse::vulkan {
 namespace {
 
 namespace vk = detail::vk;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Storage buffers bound at once by the largest kernel (shaders/blocks.comp) and the largest
-// push-constant block (GridParams in vulkan_backend.cpp).
-constexpr std::uint32_t kernel_storage_buffers = 10;
-constexpr std::uint32_t kernel_push_constant_bytes = 48;
+using detail::Clock;
+using detail::ms_since;
+// Storage buffers bound at once by the kernel with the most (shaders/prepare_sites.comp), and the
+// largest push-constant block.
+constexpr std::uint32_t kernel_storage_buffers = 16;
+constexpr std::uint32_t kernel_push_constant_bytes = std::uint32_t(std::max(
+    {sizeof(vk::shared::StarParams), sizeof(vk::shared::BlockParams), sizeof(vk::shared::BucketParams),
+     sizeof(vk::shared::PrepareParams), sizeof(vk::shared::RadixParams), sizeof(vk::shared::ScanParams),
+     sizeof(vk::shared::AuditParams), sizeof(vk::shared::LinkParams), sizeof(vk::shared::PredicateTestParams)}));
 
 void require(bool ok, ErrorCode code, const std::string& message) {
   if (!ok) throw Error(code, "Vulkan interop: " + message);
