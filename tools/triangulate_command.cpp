@@ -1,7 +1,6 @@
 // `expanse triangulate`: reads a .node file, triangulates it, and writes .ele (.neigh, pictures).
 // Outputs are written only after the triangulation (and --check) succeeded, each atomically;
 // if one of them fails, the ones this run already wrote are removed again.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -18,6 +17,7 @@
 #include "expanse/io.hpp"
 #include "expanse/picture.hpp"
 #include "expanse/triangulate.hpp"
+#include "support/timing.hpp"
 
 namespace expanse::cli {
 namespace {
@@ -35,10 +35,6 @@ struct TriangulateArgs {
   bool json = false;
   int picture_size = 1024;
 };
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Stages may repeat (one per iteration, say): the JSON object sums them under one name.
 nlohmann::json stage_object(const std::vector<StageTime>& stages) {
@@ -103,9 +99,9 @@ int run_triangulate(const TriangulateArgs& args) {
   options.neighbors = args.neighbors || args.check;
   if (args.paper) options.layout = Layout::paper();
 
-  const auto read_start = std::chrono::steady_clock::now();
+  const auto read_start = detail::Clock::now();
   const NodeFile node = read_node_file(args.input);
-  const double read_ms = ms_since(read_start);
+  const double read_ms = detail::ms_since(read_start);
 
   Triangulator triangulator(options);
   const Mesh mesh = triangulator.triangulate(node.points);
@@ -114,9 +110,9 @@ int run_triangulate(const TriangulateArgs& args) {
   CheckReport report;
   double check_ms = 0;
   if (args.check) {
-    const auto check_start = std::chrono::steady_clock::now();
+    const auto check_start = detail::Clock::now();
     report = check_mesh(node.points, mesh);
-    check_ms = ms_since(check_start);
+    check_ms = detail::ms_since(check_start);
     if (!report.ok) {
       std::fprintf(stderr, "expanse: error: %s: the triangulation failed the check:\n", args.input.c_str());
       for (const std::string& problem : report.problems) std::fprintf(stderr, "  %s\n", problem.c_str());
@@ -124,7 +120,7 @@ int run_triangulate(const TriangulateArgs& args) {
     }
   }
 
-  const auto write_start = std::chrono::steady_clock::now();
+  const auto write_start = detail::Clock::now();
   OutputSet outputs;
   if (!args.prefix.empty()) {
     const std::string& p = args.prefix;
@@ -138,7 +134,7 @@ int run_triangulate(const TriangulateArgs& args) {
     if (args.svg) outputs.add(p + ".svg", [&](const auto& path) { write_svg(path, node.points, mesh, picture); });
     if (args.png) outputs.add(p + ".png", [&](const auto& path) { write_png(path, node.points, mesh, picture); });
   }
-  const double write_ms = ms_since(write_start);
+  const double write_ms = detail::ms_since(write_start);
 
   if (args.json) {
     nlohmann::json out;

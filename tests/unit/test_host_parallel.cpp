@@ -8,6 +8,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <mutex>
 #include <numeric>
 #include <random>
@@ -28,6 +29,7 @@
 #include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
 #include "support/cgal_oracle.hpp"
+#include "support/tuning.hpp"
 
 using namespace expanse;
 using namespace expanse::detail;
@@ -182,12 +184,12 @@ TEST_CASE("parallel tasks: every task once, the lowest task's exception, nested 
   }
 }
 
-TEST_CASE("parallel tasks: a pass from another thread while the pool is busy runs on threads of its own",
+TEST_CASE("parallel tasks: a pass from another thread while one runs gets threads of its own",
           "[parallel]") {
   Threads use(4);
   std::atomic<bool> first_started{false}, second_done{false};
   std::atomic<int> outer_runs{0};
-  // The first pass holds the pool until the second, started on another thread, has finished.
+  // The first pass holds its threads until the second, started on another thread, has finished.
   std::thread first([&] {
     parallel_tasks(4, [&](std::size_t) {
       first_started = true;
@@ -318,7 +320,7 @@ TEST_CASE("bucket tree on demand: a bucket a search reaches over sites out of Mo
   const BucketTree tree = BucketTree::on_demand(broken);
   ApexSearch search(broken, tree);
   try {
-    (void)search.nearest_neighbor(0);
+    (void)search.nearest_site(0);
     FAIL("searched unsorted sites");
   } catch (const Error& e) {
     CHECK(e.code() == ErrorCode::internal);
@@ -474,5 +476,28 @@ TEST_CASE("seam stage: the same triangles, in the same order, over 8- and 256-si
       // The on-demand tree split only where the seam's searches went: its cost follows the seam.
       CHECK(seam_tree.nodes().size() * 20 < fine_tree.nodes().size());
     }
+  }
+}
+
+TEST_CASE("host tuning: EXPANSE_HOST_THREADS read into Tuning::threads, invalid values ignored", "[parallel]") {
+  const char* before = std::getenv("EXPANSE_HOST_THREADS");
+  const std::string saved = before ? before : "";
+  const auto threads_with = [](const char* value) {
+    if (value) {
+      setenv("EXPANSE_HOST_THREADS", value, 1);
+    } else {
+      unsetenv("EXPANSE_HOST_THREADS");
+    }
+    return host::tuning_from_environment().threads;
+  };
+  CHECK(threads_with("3") == 3);
+  CHECK(threads_with(nullptr) == 0);
+  CHECK(threads_with("0") == 0);
+  CHECK(threads_with("-2") == 0);
+  CHECK(threads_with("many") == 0);
+  if (before) {
+    setenv("EXPANSE_HOST_THREADS", saved.c_str(), 1);
+  } else {
+    unsetenv("EXPANSE_HOST_THREADS");
   }
 }

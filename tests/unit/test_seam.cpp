@@ -261,7 +261,7 @@ TEST_CASE("apex searches around slivers stay local and exact (rotated float grid
   std::uint64_t most = 0, searches = 0;
   for (const auto& [edge, apex] : apex_of) {
     const std::uint64_t before = search.candidates_tested();
-    REQUIRE(search.apex(edge.first, edge.second) == apex);
+    REQUIRE(search.apex_search(edge.first, edge.second) == apex);
     most = std::max(most, search.candidates_tested() - before);
     ++searches;
   }

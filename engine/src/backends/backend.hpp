@@ -14,7 +14,7 @@
 #include "expanse/triangulate.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 namespace expanse::detail {
 

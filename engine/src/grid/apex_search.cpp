@@ -109,7 +109,7 @@ bool ApexSearch::outside_lifted_circle(const QuantBox& box, const Point2& a, con
   return std::isfinite(upper) && std::isfinite(permanent) && upper < -(1e-12 * permanent + 1e-300);
 }
 
-ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b, const Point2& c) const {
+ApexSearch::CircleRegion ApexSearch::circle_region(const Point2& a, const Point2& b, const Point2& c) const {
   // Circumcentre relative to a, with a forward error bound on each quantity: the box must hold
   // circle(a, b, c) ∩ left half-plane however the rounding fell.
   const double dx = b.x - a.x, dy = b.y - a.y, ex = c.x - a.x, ey = c.y - a.y;
@@ -117,7 +117,7 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
   const double den = 2 * (dx * ey - dy * ex);
   const double den_error = 16 * eps * 2 * (std::fabs(dx * ey) + std::fabs(dy * ex));
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const Region everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
+  const CircleRegion everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
   double ux, uy, ux_error, uy_error;
   // The rounded determinant only where its relative error is tiny: the centre's error is that
   // relative error times the radius, and a sliver's radius is many times the domain (a rotated
@@ -147,13 +147,13 @@ ApexSearch::Region ApexSearch::left_region_box(const Point2& a, const Point2& b,
     ux_error = 16 * eps * std::fabs(ux);
     uy_error = 16 * eps * std::fabs(uy);
   }
-  return circle_region(a, b, ux, uy, ux_error, uy_error);
+  return circle_region_around(a, b, ux, uy, ux_error, uy_error);
 }
 
-ApexSearch::Region ApexSearch::circle_region(const Point2& a, const Point2& b, double ux, double uy,
-                                             double ux_error, double uy_error) const {
+ApexSearch::CircleRegion ApexSearch::circle_region_around(const Point2& a, const Point2& b, double ux, double uy,
+                                                          double ux_error, double uy_error) const {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const Region everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
+  const CircleRegion everywhere{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
   const double dx = b.x - a.x, dy = b.y - a.y;
   if (!std::isfinite(ux) || !std::isfinite(uy) || !std::isfinite(ux_error + uy_error)) return everywhere;
   const double r = std::sqrt(ux * ux + uy * uy);
@@ -181,7 +181,7 @@ ApexSearch::Region ApexSearch::circle_region(const Point2& a, const Point2& b, d
           cx, cy, std::max(reach_x, reach_y)};
 }
 
-bool ApexSearch::outside_circle(const QuantBox& box, const Region& region) const {
+bool ApexSearch::outside_circle(const QuantBox& box, const CircleRegion& region) const {
   // Thin caps over long chords (near-collinear sites) have huge circles whose bounding boxes
   // prune nothing; the distance from the centre to the box does.
   if (region.reach < 0) return false;
@@ -195,169 +195,197 @@ bool ApexSearch::outside_circle(const QuantBox& box, const Region& region) const
   return dx * dx + dy * dy > region.reach * region.reach * (1 + 1e-9);
 }
 
-std::int32_t ApexSearch::apex(std::int32_t ia, std::int32_t ib) {
-  const Point2 a = sites_.points[ia];
-  const Point2 b = sites_.points[ib];
-  const auto& nodes = tree_.nodes();
-  const auto& points = sites_.points;
-  const int shift = tree_.cell_shift();
+void ApexSearch::start_search(std::int32_t ia, std::int32_t ib) {
+  Query& q = query_;
+  q.ia = ia;
+  q.ib = ib;
+  q.a = sites_.points[ia];
+  q.b = sites_.points[ib];
+  q.dx = q.b.x - q.a.x;
+  q.dy = q.b.y - q.a.y;
+  q.qmx = tree_.quantise_x(0.5 * q.a.x + 0.5 * q.b.x);
+  q.qmy = tree_.quantise_y(0.5 * q.a.y + 0.5 * q.b.y);
+  q.edge = exact::apex_edge(q.a.x, q.a.y, q.b.x, q.b.y);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  best_.site = -1;
+  best_.point = {};
+  best_.lambda = 0;
+  best_.error = inf;
+  best_.lift = {};
+  best_.region = {-inf, -inf, inf, inf, full_domain, 0, 0, -1};
+  visited_ = {1, 1, 0, 0};
+  has_visited_ = false;
+  big_buckets_.clear();
+}
 
-  const std::uint32_t qmx = tree_.quantise_x(0.5 * a.x + 0.5 * b.x);
-  const std::uint32_t qmy = tree_.quantise_y(0.5 * a.y + 0.5 * b.y);
+std::int32_t ApexSearch::apex_search(std::int32_t ia, std::int32_t ib) {
+  start_search(ia, ib);
+  const Query& q = query_;
   // The region holds a and b, |ab|/2 from the midpoint, and for a well-shaped triangle its apex
   // lies about 0.9 |ab| away: a square of half-size |ab| usually settles it in one round.
-  const double length = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y)) / tree_.quantum();
-  std::uint64_t half = std::max<std::uint64_t>(std::uint64_t{1} << shift,
+  const double length = std::sqrt(q.dx * q.dx + q.dy * q.dy) / tree_.quantum();
+  std::uint64_t half = std::max<std::uint64_t>(std::uint64_t{1} << tree_.cell_shift(),
                                                static_cast<std::uint64_t>(std::min(length, 4e9)) + 1);
-
-  std::int32_t best = -1;
-  Point2 best_point{};
-  QuantBox best_box = full_domain;
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Region region{-inf, -inf, inf, inf, full_domain, 0, 0, -1};
-  big_buckets_.clear();
-
-  // Candidates are ranked by λ: circle(a, b, p) has its centre at m + λ (-dy, dx), and p lies
-  // inside circle(a, b, c) exactly when λ(p) < λ(c). λ and its forward error bound cost a few
-  // flops; only comparisons the bound cannot separate go to the exact perturbed incircle.
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  double best_lambda = 0, best_error = inf;
-  exact::ApexLift best_lift{};  // valid once best >= 0
-  const exact::ApexEdge edge = exact::apex_edge(a.x, a.y, b.x, b.y);
-  const auto scan = [&](const BucketTree::Node& bucket) {
-    bool improved = false;
-    for (std::int32_t i = bucket.begin; i < bucket.end; ++i) {
-      const Point2& e = points[i];
-      if (e.x < region.x0 || e.x > region.x1 || e.y < region.y0 || e.y > region.y1) continue;
-      if (i == ia || i == ib) continue;
-      ++candidates_tested_;
-      const double pax = e.x - a.x, pay = e.y - a.y, pbx = e.x - b.x, pby = e.y - b.y;
-      const double cross = dx * pay - dy * pax;
-      const double cross_error = 5 * eps * (std::fabs(dx * pay) + std::fabs(dy * pax));
-      if (cross < -cross_error) continue;  // clearly right of a->b
-      const Point2 p{e.x, e.y};
-      double lambda = 0, error = inf;
-      // Above 1e-280 no product can have lost bits to underflow beyond the bounds' slack.
-      if (cross > cross_error && cross > 1e-280 && cross_error < inf) {
-        const double dot = pax * pbx + pay * pby;
-        const double dot_error = 5 * eps * (std::fabs(pax * pbx) + std::fabs(pay * pby)) + 1e-300;
-        lambda = dot / (2 * cross);
-        error = (dot_error + 2 * std::fabs(lambda) * cross_error) / (2 * (cross - cross_error)) +
-                4 * eps * std::fabs(lambda);
-        if (!std::isfinite(error)) error = inf;
-      } else if (orient2d(a, b, p) <= 0) {
-        continue;
-      }
-      bool better;
-      if (best < 0) {
-        better = true;
-      } else if (error < inf && best_error < inf && lambda + error < best_lambda - best_error) {
-        better = true;
-      } else if (error < inf && best_error < inf && lambda - error > best_lambda + best_error) {
-        better = false;
-      } else {
-        better = incircle_perturbed(a, b, best_point, p) > 0;
-      }
-      if (better) {
-        best = i;
-        best_point = p;
-        best_lambda = lambda;
-        best_error = error;
-        improved = true;
-      }
-    }
-    if (!improved) return;
-    best_lift = exact::apex_lift(edge, exact::apex_point(edge, best_point.x, best_point.y));
-    // λ's centre only where its relative error is below 1e-9 (see left_region_box).
-    if (best_error < 1e-9 * (1 + std::fabs(best_lambda))) {
-      const double ux = 0.5 * dx - best_lambda * dy, uy = 0.5 * dy + best_lambda * dx;
-      const double ux_error = best_error * std::fabs(dy) + 8 * eps * (std::fabs(dx) + std::fabs(best_lambda * dy));
-      const double uy_error = best_error * std::fabs(dx) + 8 * eps * (std::fabs(dy) + std::fabs(best_lambda * dx));
-      region = circle_region(a, b, ux, uy, ux_error, uy_error);
-    } else {
-      region = left_region_box(a, b, best_point);
-    }
-    best_box = region.quant;
-  };
-
-  // One round visits every bucket that meets `square` but not `visited` (the previous round's
-  // square, whose buckets were all scanned or safely pruned). Pruning by the best circle is safe
-  // for good: a better candidate only shrinks circle ∩ left half-plane.
-  QuantBox visited{1, 1, 0, 0};
-  bool has_visited = false;
-  // Buckets: scanned unless visited in an earlier round, or already this round (a bucket
-  // spanning several cells is reached from each of them). Returns nothing; updates `best`.
-  const auto visit_bucket = [&](std::int32_t index, const BucketTree::Node& node, const QuantBox& box) {
-    if (has_visited && box.intersects(visited)) return;
-    if (node.size > (1u << shift)) {
-      if (std::find(big_buckets_.begin(), big_buckets_.end(), index) != big_buckets_.end()) return;
-      big_buckets_.push_back(index);
-    }
-    scan(node);
-  };
-  const auto descend = [&](std::int32_t root, const QuantBox& square) {
-    {  // most cells are a single bucket: no stack for them
-      const BucketTree::Node node = nodes[root];
-      if (node.begin == node.end) return;
-      const QuantBox box = tree_.search_box(root);
-      if (!box.intersects(square) || !box.intersects(best_box)) return;
-      if (node.first_child == -1) {
-        visit_bucket(root, node, box);
-        return;
-      }
-    }
-    stack_.clear();
-    stack_.push_back(root);
-    while (!stack_.empty()) {
-      const std::int32_t index = stack_.back();
-      const BucketTree::Node node = nodes[index];  // a copy: an on-demand tree grows below
-      stack_.pop_back();
-      if (node.begin == node.end) continue;
-      const QuantBox box = tree_.search_box(index);
-      if (!box.intersects(square) || !box.intersects(best_box)) continue;
-      if (has_visited && visited.contains(box)) continue;
-      if (node.first_child == -1) {
-        visit_bucket(index, node, box);
-        continue;
-      }
-      if (outside_circle(box, region) || entirely_right(box, a, b)) continue;
-      if (best >= 0 && outside_lifted_circle(box, a, best_lift)) continue;
-      // Children nearest the midpoint last, so they are popped first.
-      const std::int32_t first = tree_.children(index);
-      const std::uint32_t mid = node.size / 2;
-      const int near = (qmx >= node.x0 + mid ? 1 : 0) | (qmy >= node.y0 + mid ? 2 : 0);
-      for (int k = 3; k >= 0; --k) stack_.push_back(first + (near ^ k));
-    }
-  };
-
-
-  constexpr std::uint32_t max_cells_per_side = 5;
+  // One round visits every bucket that meets `square` but not the previous round's square.
+  // Pruning by the best circle is safe for good: a better candidate only shrinks the region.
   while (true) {
-    const QuantBox square = square_around(qmx, qmy, half);
-    const std::uint32_t i0 = square.x0 >> shift, i1 = square.x1 >> shift;
-    const std::uint32_t j0 = square.y0 >> shift, j1 = square.y1 >> shift;
-    if (i1 - i0 < max_cells_per_side && j1 - j0 < max_cells_per_side) {
-      // Enter the tree at the grid's cells: skips the top levels for small squares.
-      const std::uint32_t ci = qmx >> shift, cj = qmy >> shift;
-      descend(tree_.cell_node(static_cast<int>(ci), static_cast<int>(cj)), square);
-      // Only cells that can still meet the best circle's region (it shrinks as we go).
-      for (std::uint32_t j = std::max(j0, best_box.y0 >> shift); j <= std::min(j1, best_box.y1 >> shift); ++j) {
-        for (std::uint32_t i = std::max(i0, best_box.x0 >> shift); i <= std::min(i1, best_box.x1 >> shift); ++i) {
-          if (i != ci || j != cj) descend(tree_.cell_node(static_cast<int>(i), static_cast<int>(j)), square);
-        }
-      }
-    } else {
-      descend(0, square);
-    }
-    if (best >= 0 && square.contains(best_box)) return best;
-    if (square.contains(full_domain)) return best;
-    visited = square;
-    has_visited = true;
+    const QuantBox square = square_around(q.qmx, q.qmy, half);
+    scan_box(square);
+    if (best_.site >= 0 && square.contains(best_.region.quant)) return best_.site;
+    if (square.contains(full_domain)) return best_.site;
+    visited_ = square;
+    has_visited_ = true;
     half *= 2;
   }
 }
 
-std::int32_t ApexSearch::nearest_neighbor(std::int32_t s) { return nearest(sites_.points[s], s); }
+void ApexSearch::scan_box(const QuantBox& square) {
+  constexpr std::uint32_t max_cells_per_side = 5;
+  const int shift = tree_.cell_shift();
+  const std::uint32_t i0 = square.x0 >> shift, i1 = square.x1 >> shift;
+  const std::uint32_t j0 = square.y0 >> shift, j1 = square.y1 >> shift;
+  if (i1 - i0 >= max_cells_per_side || j1 - j0 >= max_cells_per_side) {
+    descend(0, square);
+    return;
+  }
+  // Enter the tree at the grid's cells, the midpoint's first: skips the top levels for small
+  // squares. Then, row by row, only cells that can still meet the circle region (it shrinks
+  // as the search goes).
+  const std::uint32_t ci = query_.qmx >> shift, cj = query_.qmy >> shift;
+  descend(tree_.cell_node(static_cast<int>(ci), static_cast<int>(cj)), square);
+  const QuantBox& region = best_.region.quant;
+  for (std::uint32_t j = std::max(j0, region.y0 >> shift); j <= std::min(j1, region.y1 >> shift); ++j) {
+    for (std::uint32_t i = std::max(i0, region.x0 >> shift); i <= std::min(i1, region.x1 >> shift); ++i) {
+      if (i != ci || j != cj) descend(tree_.cell_node(static_cast<int>(i), static_cast<int>(j)), square);
+    }
+  }
+}
+
+void ApexSearch::descend(std::int32_t root, const QuantBox& square) {
+  const auto& nodes = tree_.nodes();
+  {  // most cells are a single bucket: no stack for them
+    const BucketTree::Node node = nodes[root];
+    if (node.begin == node.end) return;
+    const QuantBox box = tree_.search_box(root);
+    if (!box.intersects(square) || !box.intersects(best_.region.quant)) return;
+    if (node.first_child == -1) {
+      visit_bucket(root, node, box);
+      return;
+    }
+  }
+  stack_.clear();
+  stack_.push_back(root);
+  while (!stack_.empty()) {
+    const std::int32_t index = stack_.back();
+    const BucketTree::Node node = nodes[index];  // a copy: an on-demand tree grows below
+    stack_.pop_back();
+    if (node.begin == node.end) continue;
+    const QuantBox box = tree_.search_box(index);
+    if (!box.intersects(square) || !box.intersects(best_.region.quant)) continue;
+    if (has_visited_ && visited_.contains(box)) continue;
+    if (node.first_child == -1) {
+      visit_bucket(index, node, box);
+      continue;
+    }
+    if (outside_circle(box, best_.region) || entirely_right(box, query_.a, query_.b)) continue;
+    if (best_.site >= 0 && outside_lifted_circle(box, query_.a, best_.lift)) continue;
+    // Children nearest the midpoint last, so they are popped first.
+    const std::int32_t first = tree_.children(index);
+    const std::uint32_t mid = node.size / 2;
+    const int near = (query_.qmx >= node.x0 + mid ? 1 : 0) | (query_.qmy >= node.y0 + mid ? 2 : 0);
+    for (int k = 3; k >= 0; --k) stack_.push_back(first + (near ^ k));
+  }
+}
+
+// A bucket is scanned unless it met an earlier round's square, or was scanned already this
+// round (a bucket spanning several cells is reached from each of them).
+void ApexSearch::visit_bucket(std::int32_t index, const BucketTree::Node& node, const QuantBox& box) {
+  if (has_visited_ && box.intersects(visited_)) return;
+  if (node.size > (1u << tree_.cell_shift())) {
+    if (std::find(big_buckets_.begin(), big_buckets_.end(), index) != big_buckets_.end()) return;
+    big_buckets_.push_back(index);
+  }
+  if (scan_bucket(node)) update_circle_region();
+}
+
+bool ApexSearch::scan_bucket(const BucketTree::Node& node) {
+  const auto& points = sites_.points;
+  // The region changes only after the bucket (update_circle_region): its box, read once.
+  const double x0 = best_.region.x0, y0 = best_.region.y0, x1 = best_.region.x1, y1 = best_.region.y1;
+  bool improved = false;
+  for (std::int32_t i = node.begin; i < node.end; ++i) {
+    const Point2& e = points[i];
+    if (e.x < x0 || e.x > x1 || e.y < y0 || e.y > y1) continue;
+    if (i == query_.ia || i == query_.ib) continue;
+    ++candidates_tested_;
+    if (improves(i, e)) improved = true;
+  }
+  return improved;
+}
+
+bool ApexSearch::improves(std::int32_t i, const Point2& e) {
+  // Candidates are ranked by λ: circle(a, b, p) has its centre at m + λ (-dy, dx), and p lies
+  // inside circle(a, b, c) exactly when λ(p) < λ(c). λ and its forward error bound cost a few
+  // flops; only comparisons the bound cannot separate are decided exactly.
+  const Point2& a = query_.a;
+  const Point2& b = query_.b;
+  const double dx = query_.dx, dy = query_.dy;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double pax = e.x - a.x, pay = e.y - a.y, pbx = e.x - b.x, pby = e.y - b.y;
+  const double cross = dx * pay - dy * pax;
+  const double cross_error = 5 * eps * (std::fabs(dx * pay) + std::fabs(dy * pax));
+  if (cross < -cross_error) return false;  // clearly right of a->b
+  const Point2 p{e.x, e.y};
+  double lambda = 0, error = inf;
+  // Above 1e-280 no product can have lost bits to underflow beyond the bounds' slack.
+  if (cross > cross_error && cross > 1e-280 && cross_error < inf) {
+    const double dot = pax * pbx + pay * pby;
+    const double dot_error = 5 * eps * (std::fabs(pax * pbx) + std::fabs(pay * pby)) + 1e-300;
+    lambda = dot / (2 * cross);
+    error = (dot_error + 2 * std::fabs(lambda) * cross_error) / (2 * (cross - cross_error)) + 4 * eps * std::fabs(lambda);
+    if (!std::isfinite(error)) error = inf;
+  } else if (orient2d(a, b, p) <= 0) {
+    return false;
+  }
+  int better;  // 1, 0, or exact::uncertain
+  if (best_.site < 0) {
+    better = 1;
+  } else if (error < inf && best_.error < inf && lambda + error < best_.lambda - best_.error) {
+    better = 1;
+  } else if (error < inf && best_.error < inf && lambda - error > best_.lambda + best_.error) {
+    better = 0;
+  } else {
+    better = exact::uncertain;
+  }
+  if (better == exact::uncertain) better = decide_exactly(p) ? 1 : 0;
+  if (!better) return false;
+  best_.site = i;
+  best_.point = p;
+  best_.lambda = lambda;
+  best_.error = error;
+  return true;
+}
+
+bool ApexSearch::decide_exactly(const Point2& p) const {
+  return incircle_perturbed(query_.a, query_.b, best_.point, p) > 0;
+}
+
+void ApexSearch::update_circle_region() {
+  const Query& q = query_;
+  best_.lift = exact::apex_lift(q.edge, exact::apex_point(q.edge, best_.point.x, best_.point.y));
+  // λ's centre only where its relative error is below 1e-9 (see circle_region).
+  if (best_.error < 1e-9 * (1 + std::fabs(best_.lambda))) {
+    const double lambda = best_.lambda, dx = q.dx, dy = q.dy;
+    const double ux = 0.5 * dx - lambda * dy, uy = 0.5 * dy + lambda * dx;
+    const double ux_error = best_.error * std::fabs(dy) + 8 * eps * (std::fabs(dx) + std::fabs(lambda * dy));
+    const double uy_error = best_.error * std::fabs(dx) + 8 * eps * (std::fabs(dy) + std::fabs(lambda * dx));
+    best_.region = circle_region_around(q.a, q.b, ux, uy, ux_error, uy_error);
+  } else {
+    best_.region = circle_region(q.a, q.b, best_.point);
+  }
+}
+
+std::int32_t ApexSearch::nearest_site(std::int32_t s) { return nearest(sites_.points[s], s); }
 
 std::int32_t ApexSearch::nearest(const Point2& q, std::int32_t exclude) {
   const auto& nodes = tree_.nodes();

@@ -91,6 +91,55 @@ std::size_t count_descendants(const std::uint64_t* codes, std::size_t m, int lev
   return 4 * splits;
 }
 
+// The top of the tree, split on one thread breadth first down to subtrees small enough to be
+// tasks (their placement, later, is depth first).
+struct TopSplit {
+  struct Top {
+    Node node;
+    std::int32_t first_top = -1;  // four children in `tops`
+    std::int32_t task = -1;
+  };
+  std::vector<Top> tops;
+  std::vector<std::int32_t> tasks;  // top index of each task's root
+};
+
+template <class Code>
+TopSplit split_top(std::int32_t n, int capacity, const Code& code_of) {
+  const auto count = static_cast<std::size_t>(n);
+  const std::size_t task_sites = std::max<std::size_t>(std::size_t{1} << 13, count / (16 * host_threads()));
+  TopSplit split;
+  auto& tops = split.tops;
+  tops.push_back({{0, 0, 1u << BucketTree::quant_bits, -1, 0, n}});
+  for (std::size_t t = 0; t < tops.size(); ++t) {
+    const Node node = tops[t].node;
+    if (is_bucket(node, capacity)) continue;
+    if (static_cast<std::size_t>(node.end - node.begin) <= task_sites) {
+      tops[t].task = static_cast<std::int32_t>(split.tasks.size());
+      split.tasks.push_back(static_cast<std::int32_t>(t));
+      continue;
+    }
+    tops[t].first_top = static_cast<std::int32_t>(tops.size());
+    for (const Node& child : children_of(node, code_of)) tops.push_back({child});
+  }
+  return split;
+}
+
+// Buckets are ranges of site ids: that needs the Morton order prepare_sites() establishes.
+// Each task checks its own sites; the ranges of the top's buckets and tasks cover [0, n) in
+// order, so the top's own sites and the joins between ranges are checked here.
+template <class Code>
+bool top_in_morton_order(const TopSplit& split, std::int32_t n, const Code& code_of) {
+  for (const TopSplit::Top& top : split.tops) {
+    if (top.first_top >= 0) continue;
+    if (top.node.begin > 0 && top.node.begin < n && code_of(top.node.begin - 1) > code_of(top.node.begin)) return false;
+    if (top.task >= 0) continue;
+    for (std::int32_t i = top.node.begin + 1; i < top.node.end; ++i) {
+      if (code_of(i - 1) > code_of(i)) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(1, capacity)) {
@@ -99,51 +148,19 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
   origin_y_ = quantiser.origin_y;
   scale_ = quantiser.scale;
 
-  // The top of the tree on this thread, down to subtrees small enough to be tasks; each task's
-  // subtree counted, then written where a sequential depth-first split puts it: a subtree's
-  // nodes are contiguous there, after those of the subtrees before it. Codes are computed where
-  // they are needed (in cache for a task's sites) rather than stored for every site.
+  // Each task's subtree counted, then written where a sequential depth-first split puts it: a
+  // subtree's nodes are contiguous there, after those of the subtrees before it. Codes are
+  // computed where they are needed (in cache for a task's sites) rather than stored for every
+  // site.
   const std::int32_t n = sites.size();
-  const auto count = static_cast<std::size_t>(n);
   const auto code_of = [&](std::int32_t i) {
     const Point2& p = sites.points[static_cast<std::size_t>(i)];
     return morton_code(quantise_x(p.x), quantise_y(p.y));
   };
-  struct Top {
-    Node node;
-    std::int32_t first_top = -1;  // four children in `tops`
-    std::int32_t task = -1;
-  };
-  const std::size_t task_sites = std::max<std::size_t>(std::size_t{1} << 13, count / (16 * host_threads()));
-  std::vector<Top> tops{{{0, 0, 1u << quant_bits, -1, 0, n}}};
-  std::vector<std::int32_t> tasks;  // top index of each task's root
-  for (std::size_t t = 0; t < tops.size(); ++t) {  // breadth first; placement below is depth first
-    const Node node = tops[t].node;
-    if (is_bucket(node, capacity_)) continue;
-    if (static_cast<std::size_t>(node.end - node.begin) <= task_sites) {
-      tops[t].task = static_cast<std::int32_t>(tasks.size());
-      tasks.push_back(static_cast<std::int32_t>(t));
-      continue;
-    }
-    tops[t].first_top = static_cast<std::int32_t>(tops.size());
-    for (const Node& child : children_of(node, code_of)) tops.push_back({child});
-  }
-  // Buckets are ranges of site ids: that needs the Morton order prepare_sites() establishes.
-  // Each task checks its sites; the ranges of the top's buckets and tasks cover [0, n) in order,
-  // so their own sites and the joins between them are checked here.
-  std::atomic<bool> sorted{true};
-  for (const Top& top : tops) {
-    if (top.first_top >= 0 || top.task >= 0) continue;
-    for (std::int32_t i = top.node.begin + 1; i < top.node.end; ++i) {
-      if (code_of(i - 1) > code_of(i)) sorted = false;
-    }
-  }
-  for (const Top& top : tops) {
-    if (top.first_top < 0 && top.node.begin > 0 && top.node.begin < n &&
-        code_of(top.node.begin - 1) > code_of(top.node.begin)) {
-      sorted = false;
-    }
-  }
+  const TopSplit split = split_top(n, capacity_, code_of);
+  const auto& tops = split.tops;
+  const auto& tasks = split.tasks;
+  std::atomic<bool> sorted{top_in_morton_order(split, n, code_of)};
   std::vector<std::size_t> task_nodes(tasks.size());
   // One task's codes, in cache: the same on both passes.
   const auto task_codes = [&](const Node& root) {
@@ -152,9 +169,6 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
     for (std::int32_t i = root.begin; i < root.end; ++i) codes[static_cast<std::size_t>(i - root.begin)] = code_of(i);
     return [data = codes.data(), base = root.begin](std::int32_t i) -> const std::uint64_t& { return data[i - base]; };
   };
-  // Large buckets make few nodes: building them computes codes where it searches, instead of
-  // computing every site's code a second time.
-  const bool few_nodes = capacity_ >= 64;
   parallel_tasks(tasks.size(), [&](std::size_t task) {
     const Node& root = tops[tasks[task]].node;
     const auto code = task_codes(root);
@@ -170,14 +184,14 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
     throw Error(ErrorCode::internal, "bucket tree built over sites that are not in Morton order");
   }
   std::size_t total = 1;
-  for (const Top& top : tops) total += top.first_top >= 0 ? 4 : 0;
+  for (const auto& top : tops) total += top.first_top >= 0 ? 4 : 0;
   for (const std::size_t nodes : task_nodes) total += nodes;
   nodes_.resize(total);
   nodes_[0] = tops[0].node;
   std::vector<std::size_t> task_offset(tasks.size());
   std::size_t cursor = 1;
   const auto place = [&](auto&& self, std::size_t t, std::size_t index) -> void {
-    const Top& top = tops[t];
+    const auto& top = tops[t];
     if (top.first_top >= 0) {
       const std::size_t first = cursor;
       cursor += 4;
@@ -191,6 +205,9 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
     }
   };
   place(place, 0, 0);
+  // Large buckets make few nodes: building them computes codes where it searches, instead of
+  // computing every site's code a second time.
+  const bool few_nodes = capacity_ >= 64;
   parallel_tasks(tasks.size(), [&](std::size_t task) {
     const Node& root = tops[tasks[task]].node;
     std::size_t at = task_offset[task];
@@ -202,10 +219,13 @@ BucketTree::BucketTree(const SiteSet& sites, int capacity) : capacity_(std::max(
     if (at != task_offset[task] + task_nodes[task]) sorted.store(false);  // cannot happen: counted alike
   });
   if (!sorted.load()) throw Error(ErrorCode::internal, "bucket tree: a subtree has not the size it was counted at");
+  index_cells(static_cast<std::size_t>(n));
+}
+
+void BucketTree::index_cells(std::size_t count) {
   // About half a bucket (four sites for 8-site buckets) per cell when sites are spread evenly.
   // Every cell is covered by exactly one node of cell size or one bucket above it; the
-  // subtrees a few levels down fill
-  // disjoint blocks of cells, in parallel.
+  // subtrees a few levels down fill disjoint blocks of cells, in parallel.
   const std::size_t per_cell = std::max(1, capacity_ / 2);
   while (grid_level_ < 12 && (std::size_t{1} << (2 * grid_level_)) * per_cell < count) ++grid_level_;
   cell_node_.resize(std::size_t{1} << (2 * grid_level_));

@@ -127,6 +127,8 @@ class BucketTree {
     return static_cast<std::uint32_t>(q);
   }
   BucketTree() = default;
+  /// The grid of cells over the full tree (cell_node), for `count` sites.
+  void index_cells(std::size_t count);
   void fill_cells(std::int32_t node);
   std::int32_t split(std::int32_t index) const;
   void check_bucket(std::int32_t index) const;

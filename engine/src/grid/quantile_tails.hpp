@@ -7,7 +7,7 @@
 // a whole tail column (up to 2,000 sites a cell at 4096^2), and the searches there scan them
 // whole. Weighing the outer samples more gives the tails more columns and rows.
 //
-// Measured (session 25; cuda_backend/results/2026-11-27-h100-s25): counted on the CPU (the CUDA
+// Measured (H100 and the 2-core VM, 2026-11-27): counted on the CPU (the CUDA
 // walk, `expanse-bench-star-work`, two phases), the outer 1/40 of each axis weighed 3 times took
 // kuzmin 4096^2 from 89.5 to 80.9 units a site and its sites past 2^11 units from 21,761 to
 // 6,410 (at 10^6 87.3 -> 80.2, within 1% of that for weights of 2 to 4 over the outer 1 to 5%;

@@ -14,22 +14,16 @@ namespace {
 
 bool lex_less(const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
 
-// Akl–Toussaint: sites strictly inside the polygon of the eight extreme sites cannot be on the
-// hull (not even as collinear hull sites), so only the rest need sorting. Over points 0..n-1 (n > 0),
-// point(i) being the i-th (the sites of a SiteSet, or the scaled input points: repeated points
-// then get the same verdict, so every copy of a candidate is one). Returns the candidates in
-// increasing order.
+// Extremes in 8 directions, in CCW order: S, SE, E, NE, N, NW, W, SW, as maximisers of the
+// direction dot products (0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1);
+// exact ties do not matter for correctness. Per chunk, then over chunks in order: the first
+// point with the largest value, as one pass would find it.
 template <class PointAt>
-std::vector<std::int32_t> hull_candidates(std::size_t n, const PointAt& point) {
-  // Extremes in 8 directions, in CCW order: min y, min (y - x)... expressed as maximisers of
-  // direction dot products; exact ties do not matter for correctness.
-  // Directions: (0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1).
-  // Per chunk, then over chunks in order: the first site with the largest value, as one pass.
+std::array<std::int32_t, 8> extreme_points(std::size_t n, std::size_t chunks, const PointAt& point) {
   struct Extremes {
     std::array<std::int32_t, 8> site{};
     std::array<double, 8> best{};
   };
-  const std::size_t chunks = chunk_count(n);
   std::vector<Extremes> found(chunks);
   // direction d . p[i], each rounded as the dot product is (0 * x adds a zero; rounding to
   // nearest is symmetric, so -x - y == -(x + y) and -x + y == -(x - y)).
@@ -50,9 +44,8 @@ std::vector<std::int32_t> hull_candidates(std::size_t n, const PointAt& point) {
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     Extremes e;
     e.best.fill(-std::numeric_limits<double>::infinity());
-    // Blocks of sites: the maxima of a block vectorise (no site to track); only a block that
-    // beats the best so far, rare after the first few, is searched for its first maximal site.
-    // The same site as a site-by-site scan: the first one with the largest value.
+    // Blocks of points: the maxima of a block vectorise (no point to track); only a block that
+    // beats the best so far, rare after the first few, is searched for its first maximal point.
     constexpr std::size_t block = 256;
     for (std::size_t lo = begin; lo < end; lo += block) {
       const std::size_t hi = std::min(end, lo + block);
@@ -85,149 +78,183 @@ std::vector<std::int32_t> hull_candidates(std::size_t n, const PointAt& point) {
       }
     }
   }
-  std::vector<std::int32_t> polygon;
-  for (std::int32_t e : extreme) {
-    if (polygon.empty() || (polygon.back() != e && polygon.front() != e)) polygon.push_back(e);
-  }
-  // Its corners by position: corner[k] is polygon[k]'s point, corner[m] the first again.
-  const std::size_t m = polygon.size();
-  std::vector<Point2> corner(m + 1);
-  for (std::size_t k = 0; k <= m; ++k) corner[k] = point(static_cast<std::size_t>(polygon[k % m]));
+  return extreme;
+}
+
+// The polygon of the extreme points, and the sites it certainly holds strictly inside.
+struct ExtremePolygon {
+  std::vector<Point2> corner;  // corner[k], k < m, in CCW order; corner[m] is corner[0] again
+  std::size_t m = 0;
+  Box bounds;                  // of the corners
   // The extremes are hull sites in CCW order, but rounding in the dot products could in
-  // principle misorder nearly-equal ones: only use the polygon if it is strictly convex.
-  bool usable = m >= 3;
-  for (std::size_t k = 0; usable && k < m; ++k) {
-    usable = orient2d(corner[k], corner[k + 1], corner[(k + 2) % m]) > 0;
+  // principle misorder nearly-equal ones: the polygon is used only if it is strictly convex.
+  bool usable = false;
+
+  template <class PointAt>
+  ExtremePolygon(const std::array<std::int32_t, 8>& extreme, const PointAt& point) {
+    std::vector<std::int32_t> polygon;
+    for (std::int32_t e : extreme) {
+      if (polygon.empty() || (polygon.back() != e && polygon.front() != e)) polygon.push_back(e);
+    }
+    m = polygon.size();
+    corner.resize(m + 1);
+    for (std::size_t k = 0; k <= m; ++k) corner[k] = point(static_cast<std::size_t>(polygon[k % m]));
+    usable = m >= 3;
+    for (std::size_t k = 0; usable && k < m; ++k) usable = orient2d(corner[k], corner[k + 1], corner[(k + 2) % m]) > 0;
+    bounds = {corner[0].x, corner[0].y, corner[0].x, corner[0].y};
+    for (const Point2& v : corner) {
+      bounds = {std::min(bounds.min_x, v.x), std::min(bounds.min_y, v.y), std::max(bounds.max_x, v.x),
+                std::max(bounds.max_y, v.y)};
+    }
   }
-  // Every rejection below is exact: a site is dropped only when it is certainly strictly inside
-  // the polygon (the filter's certain answers are exact signs).
-  const auto inside_exact = [&](const Point2& q) {
+
+  // Exact: a site is dropped only when it is certainly strictly inside the polygon (the
+  // filter's certain answers are exact signs).
+  bool inside_exact(const Point2& q) const {
     bool inside = true;
     for (std::size_t k = 0; inside && k < m; ++k) inside = orient2d(corner[k], corner[k + 1], q) > 0;
     return inside;
-  };
-  // 1. A box whose corners are strictly inside the polygon rejects most sites with four compares.
-  // The box that the polygon's extremes bound suits a uniform square, but is often tiny or empty
-  // (two gaussian clusters on a diagonal; kuzmin's polygon of five outliers gave none), and then
-  // every site took eight exact orientation tests (4M gaussian: 50 of the hull's 89 ms). So
-  // boxes are also grown around a few centres (the polygon's, sites spread over the input) with
-  // the polygon's aspect, as large as the polygon allows; the box that holds most of a strided
-  // sample of sites is taken.
-  constexpr std::size_t sample = 256;
-  const auto sample_site = [&](std::size_t k) { return point((2 * k + 1) * n / (2 * sample)); };
-  double inner_x0 = 0, inner_x1 = -1, inner_y0 = 0, inner_y1 = -1;
-  std::size_t best_inside = 0;
+  }
+};
+
+// A box whose corners are strictly inside the polygon, which rejects most sites with four
+// compares, and how many of a strided sample of `sample` points it holds.
+struct InnerBox {
+  double x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // empty until one is found
+  std::size_t sample_inside = 0;
+};
+constexpr std::size_t inner_box_sample = 256;
+
+// The box that the polygon's extremes bound suits a uniform square, but is often tiny or empty
+// (two gaussian clusters on a diagonal; kuzmin's polygon of five outliers gave none), and then
+// every site took eight exact orientation tests (4M gaussian: 50 of the hull's 89 ms). So
+// boxes are also grown around a few centres (the polygon's, points spread over the input) with
+// the polygon's aspect, as large as the polygon allows; the box that holds most of the sample
+// is taken.
+template <class PointAt>
+InnerBox inner_box(std::size_t n, const PointAt& point, const ExtremePolygon& polygon,
+                   const std::array<std::int32_t, 8>& extreme) {
+  InnerBox chosen;
+  if (!polygon.usable) return chosen;
+  constexpr std::size_t sample = inner_box_sample;
   const auto consider_box = [&](double x0, double x1, double y0, double y1) {
     if (!(x0 < x1 && y0 < y1)) return;
     for (const Point2& box_corner : {Point2{x0, y0}, Point2{x1, y0}, Point2{x1, y1}, Point2{x0, y1}}) {
-      if (!inside_exact(box_corner)) return;
+      if (!polygon.inside_exact(box_corner)) return;
     }
     std::size_t inside = 0;
     for (std::size_t k = 0; k < sample; ++k) {
-      const Point2 q = sample_site(k);
+      const Point2 q = point((2 * k + 1) * n / (2 * sample));
       inside += q.x > x0 && q.x < x1 && q.y > y0 && q.y < y1;
     }
-    if (inside > best_inside || inner_x1 < inner_x0) {
-      best_inside = inside;
-      inner_x0 = x0;
-      inner_x1 = x1;
-      inner_y0 = y0;
-      inner_y1 = y1;
-    }
+    if (inside > chosen.sample_inside || chosen.x1 < chosen.x0) chosen = {x0, x1, y0, y1, inside};
   };
-  double min_x = 0, max_x = 0, min_y = 0, max_y = 0;
-  if (usable) {
-    min_x = max_x = corner[0].x;
-    min_y = max_y = corner[0].y;
-    for (const Point2& v : corner) {
-      min_x = std::min(min_x, v.x);
-      max_x = std::max(max_x, v.x);
-      min_y = std::min(min_y, v.y);
-      max_y = std::max(max_y, v.y);
-    }
-    {
-      // extreme[] order: S, SE, E, NE, N, NW, W, SW. A corner often is an extreme site itself
-      // (on the polygon, not strictly inside): the box is pulled in a little.
-      std::array<Point2, 8> at;
-      for (int d = 0; d < 8; ++d) at[d] = point(static_cast<std::size_t>(extreme[d]));
-      double x0 = std::max({at[5].x, at[6].x, at[7].x});
-      double x1 = std::min({at[1].x, at[2].x, at[3].x});
-      double y0 = std::max({at[7].y, at[0].y, at[1].y});
-      double y1 = std::min({at[3].y, at[4].y, at[5].y});
-      const double shrink_x = 1e-6 * (x1 - x0), shrink_y = 1e-6 * (y1 - y0);
-      consider_box(x0 + shrink_x, x1 - shrink_x, y0 + shrink_y, y1 - shrink_y);
-    }
-    const double w = max_x - min_x, h = max_y - min_y;
-    constexpr std::size_t spread = 16;
-    for (std::size_t j = 0; j <= spread; ++j) {
-      const Point2 c = j == spread ? Point2{0.5 * min_x + 0.5 * max_x, 0.5 * min_y + 0.5 * max_y}
-                                   : point((2 * j + 1) * n / (2 * spread));
-      // Corner c + t (+-w, +-h) is left of edge a->b while cross(c) > t (|bx - ax| h + |by - ay| w).
-      double t = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < m; ++k) {
-        const Point2 &a = corner[k], &b = corner[k + 1];
-        const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-        const double reach = std::fabs(b.x - a.x) * h + std::fabs(b.y - a.y) * w;
-        t = std::min(t, reach > 0 ? cross / reach : -1.0);
-      }
-      t *= 0.99;  // rounding above: consider_box checks the corners exactly
-      if (t > 0) consider_box(c.x - t * w, c.x + t * w, c.y - t * h, c.y + t * h);
-    }
+  {
+    // extreme[] order: S, SE, E, NE, N, NW, W, SW. A corner often is an extreme site itself
+    // (on the polygon, not strictly inside): the box is pulled in a little.
+    std::array<Point2, 8> at;
+    for (int d = 0; d < 8; ++d) at[d] = point(static_cast<std::size_t>(extreme[d]));
+    const double x0 = std::max({at[5].x, at[6].x, at[7].x});
+    const double x1 = std::min({at[1].x, at[2].x, at[3].x});
+    const double y0 = std::max({at[7].y, at[0].y, at[1].y});
+    const double y1 = std::min({at[3].y, at[4].y, at[5].y});
+    const double shrink_x = 1e-6 * (x1 - x0), shrink_y = 1e-6 * (y1 - y0);
+    consider_box(x0 + shrink_x, x1 - shrink_x, y0 + shrink_y, y1 - shrink_y);
   }
-  // 2. Where the box misses a fair share of the sample (the box cannot follow a diagonal or a
-  // lopsided polygon), a grid over the polygon's bounding box: a site whose computed cell lies
-  // with its eight neighbours strictly inside the polygon (all their corners are, exactly) is
-  // inside, since the computed cell is off by well under one cell: cells are kept at least 2^12
-  // units in the last place of the largest coordinate wide, so rounding in the corners and in
-  // the cell index is a tiny fraction of a cell (no grid for a set thinner than that).
-  constexpr int grid = 128;
-  std::vector<unsigned char> deep;
-  double grid_x0 = 0, grid_y0 = 0, to_cell_x = 0, to_cell_y = 0;
-  if (usable && best_inside < sample - sample / 16) {
-    const double cell_w = (max_x - min_x) / grid, cell_h = (max_y - min_y) / grid;
-    const double span = std::max({std::fabs(min_x), std::fabs(max_x), std::fabs(min_y), std::fabs(max_y)});
-    if (cell_w > 0x1p-40 * span && cell_h > 0x1p-40 * span) {
-      grid_x0 = min_x;
-      grid_y0 = min_y;
-      to_cell_x = 1.0 / cell_w;
-      to_cell_y = 1.0 / cell_h;
-      std::vector<unsigned char> lattice((grid + 1) * (grid + 1));
-      parallel_chunks(grid + 1, chunk_count(grid + 1, 8), [&](std::size_t, std::size_t begin, std::size_t end) {
-        for (std::size_t r = begin; r < end; ++r) {
-          for (int c = 0; c <= grid; ++c) {
-            lattice[r * (grid + 1) + c] = inside_exact({min_x + c * cell_w, min_y + static_cast<double>(r) * cell_h});
-          }
+  const Box& b = polygon.bounds;
+  const double w = b.max_x - b.min_x, h = b.max_y - b.min_y;
+  constexpr std::size_t spread = 16;
+  for (std::size_t j = 0; j <= spread; ++j) {
+    const Point2 c = j == spread ? Point2{0.5 * b.min_x + 0.5 * b.max_x, 0.5 * b.min_y + 0.5 * b.max_y}
+                                 : point((2 * j + 1) * n / (2 * spread));
+    // Corner c + t (+-w, +-h) is left of edge a->b while cross(c) > t (|bx - ax| h + |by - ay| w).
+    double t = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < polygon.m; ++k) {
+      const Point2 &p = polygon.corner[k], &q = polygon.corner[k + 1];
+      const double cross = (q.x - p.x) * (c.y - p.y) - (q.y - p.y) * (c.x - p.x);
+      const double reach = std::fabs(q.x - p.x) * h + std::fabs(q.y - p.y) * w;
+      t = std::min(t, reach > 0 ? cross / reach : -1.0);
+    }
+    t *= 0.99;  // rounding above: consider_box checks the corners exactly
+    if (t > 0) consider_box(c.x - t * w, c.x + t * w, c.y - t * h, c.y + t * h);
+  }
+  return chosen;
+}
+
+// Where the inner box misses a fair share of the sample (it cannot follow a diagonal or a
+// lopsided polygon), a grid over the polygon's bounding box: a site whose computed cell lies
+// with its eight neighbours strictly inside the polygon (all their corners are, exactly) is
+// inside, since the computed cell is off by well under one cell: cells are kept at least 2^12
+// units in the last place of the largest coordinate wide, so rounding in the corners and in
+// the cell index is a tiny fraction of a cell (no grid for a set thinner than that).
+struct DeepCells {
+  static constexpr int grid = 128;
+  std::vector<unsigned char> deep;  // empty: no grid
+  double x0 = 0, y0 = 0, to_cell_x = 0, to_cell_y = 0;
+
+  DeepCells() = default;
+  explicit DeepCells(const ExtremePolygon& polygon) {
+    const Box& b = polygon.bounds;
+    const double cell_w = (b.max_x - b.min_x) / grid, cell_h = (b.max_y - b.min_y) / grid;
+    const double span = std::max({std::fabs(b.min_x), std::fabs(b.max_x), std::fabs(b.min_y), std::fabs(b.max_y)});
+    if (!(cell_w > 0x1p-40 * span && cell_h > 0x1p-40 * span)) return;
+    x0 = b.min_x;
+    y0 = b.min_y;
+    to_cell_x = 1.0 / cell_w;
+    to_cell_y = 1.0 / cell_h;
+    std::vector<unsigned char> lattice((grid + 1) * (grid + 1));
+    parallel_chunks(grid + 1, chunk_count(grid + 1, 8), [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t r = begin; r < end; ++r) {
+        for (int c = 0; c <= grid; ++c) {
+          lattice[r * (grid + 1) + c] = polygon.inside_exact({b.min_x + c * cell_w, b.min_y + static_cast<double>(r) * cell_h});
         }
-      });
-      deep.assign(grid * grid, 0);
-      for (int r = 1; r + 1 < grid; ++r) {
-        for (int c = 1; c + 1 < grid; ++c) {
-          bool all = true;
-          for (int dr = -1; dr <= 2; ++dr) {
-            for (int dc = -1; dc <= 2; ++dc) all = all && lattice[(r + dr) * (grid + 1) + c + dc];
-          }
-          deep[r * grid + c] = all;
+      }
+    });
+    deep.assign(grid * grid, 0);
+    for (int r = 1; r + 1 < grid; ++r) {
+      for (int c = 1; c + 1 < grid; ++c) {
+        bool all = true;
+        for (int dr = -1; dr <= 2; ++dr) {
+          for (int dc = -1; dc <= 2; ++dc) all = all && lattice[(r + dr) * (grid + 1) + c + dc];
         }
+        deep[r * grid + c] = all;
       }
     }
   }
-  const bool use_grid = !deep.empty();
-  // 3. Else the orientation filter against every edge, without branches (edges padded to eight
-  // by repeating the last); only a site it cannot place strictly inside takes the exact tests.
+};
+
+// Akl–Toussaint: sites strictly inside the polygon of the eight extreme sites cannot be on the
+// hull (not even as collinear hull sites), so only the rest need sorting. Over points 0..n-1
+// (n > 0), point(i) being the i-th (the sites of a SiteSet, or the scaled input points:
+// repeated points then get the same verdict, so every copy of a candidate is one). Returns the
+// candidates in increasing order. Each test below is cheaper than the next and rejects most
+// of what reaches it: the inner box, the deep cells, the orientation filter, the exact test.
+template <class PointAt>
+std::vector<std::int32_t> hull_candidates(std::size_t n, const PointAt& point) {
+  const std::size_t chunks = chunk_count(n);
+  const std::array<std::int32_t, 8> extreme = extreme_points(n, chunks, point);
+  const ExtremePolygon polygon(extreme, point);
+  const InnerBox box = inner_box(n, point, polygon, extreme);
+  const bool box_suffices = box.sample_inside >= inner_box_sample - inner_box_sample / 16;
+  const DeepCells cells = polygon.usable && !box_suffices ? DeepCells(polygon) : DeepCells();
+  const bool use_cells = !cells.deep.empty();
+  // The orientation filter against every edge, without branches (edges padded to eight by
+  // repeating the last); only a site it cannot place strictly inside takes the exact tests.
   double edge_ax[8], edge_ay[8], edge_bx[8], edge_by[8];
   for (std::size_t k = 0; k < 8; ++k) {
-    const std::size_t e = std::min(k, m - 1);
-    const Point2 &a = corner[e], &b = corner[e + 1];
+    const std::size_t e = std::min(k, polygon.m - 1);
+    const Point2 &a = polygon.corner[e], &b = polygon.corner[e + 1];
     edge_ax[k] = a.x;
     edge_ay[k] = a.y;
     edge_bx[k] = b.x;
     edge_by[k] = b.y;
   }
+  constexpr int grid = DeepCells::grid;
   // Per chunk, concatenated in chunk order: the sites in increasing order, as one pass.
   std::vector<std::vector<std::int32_t>> kept(chunks);
   parallel_chunks(n, chunks, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     auto& mine = kept[chunk];
-    if (!usable) {
+    if (!polygon.usable) {
       mine.resize(end - begin);
       for (std::size_t i = begin; i < end; ++i) mine[i - begin] = static_cast<std::int32_t>(i);
       return;
@@ -237,16 +264,17 @@ std::vector<std::int32_t> hull_candidates(std::size_t n, const PointAt& point) {
       // on the stack and read back: a fifth of the pass).
       const Point2 q = point(i);
       const double x = q.x, y = q.y;
-      if (x > inner_x0 && x < inner_x1 && y > inner_y0 && y < inner_y1) continue;
-      if (use_grid) {
-        const double cx = (x - grid_x0) * to_cell_x, cy = (y - grid_y0) * to_cell_y;
-        if (cx >= 0 && cx < grid && cy >= 0 && cy < grid && deep[static_cast<int>(cy) * grid + static_cast<int>(cx)]) continue;
+      if (x > box.x0 && x < box.x1 && y > box.y0 && y < box.y1) continue;
+      if (use_cells) {
+        const double cx = (x - cells.x0) * cells.to_cell_x, cy = (y - cells.y0) * cells.to_cell_y;
+        if (cx >= 0 && cx < grid && cy >= 0 && cy < grid && cells.deep[static_cast<int>(cy) * grid + static_cast<int>(cx)])
+          continue;
       }
       int certain = 1;
       for (int k = 0; k < 8; ++k) {
         certain &= exact::orient2d_filter(edge_ax[k], edge_ay[k], edge_bx[k], edge_by[k], x, y) == 1;
       }
-      if (certain || inside_exact({x, y})) continue;
+      if (certain || polygon.inside_exact({x, y})) continue;
       mine.push_back(static_cast<std::int32_t>(i));
     }
   });

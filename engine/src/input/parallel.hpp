@@ -1,7 +1,7 @@
 #pragma once
 // The host's O(n) passes (validation, Morton sort, hull filter, bucket tree, audit, output),
-// which a GPU backend otherwise waits on, run on every host thread: work is cut into chunks
-// or tasks numbered in order, so a result never depends on how many threads ran them.
+// which a GPU backend otherwise waits on, run on every host thread (OpenMP): work is cut into
+// chunks or tasks numbered in order, so a result never depends on how many threads ran them.
 //
 // Large buffers cost more to fault in than to fill (a fresh page is zeroed by the kernel on
 // first touch, one thread at a time unless several threads touch it): HostVector does not
@@ -19,15 +19,16 @@
 namespace expanse::detail {
 
 /// Threads the host passes may use: set_host_threads()'s value if nonzero, else
-/// $EXPANSE_HOST_THREADS if it is a positive number, else every hardware thread. Results never
-/// depend on it (tests and benchmarks set it to compare).
+/// host::tuning().threads ($EXPANSE_HOST_THREADS) if nonzero, else every hardware thread.
+/// Results never depend on it (tests and benchmarks set it to compare).
 std::size_t host_threads();
 void set_host_threads(std::size_t threads);
 
 /// Runs task(i) for every i in [0, count) on up to host_threads() threads (the caller is one
 /// of them) and returns when all are done. Tasks are handed out in order as threads free up.
-/// Exceptions are rethrown here, the one of the lowest i. A call made while the pool is busy
-/// (from inside a task, or from another thread) runs its tasks on the calling thread.
+/// Exceptions are rethrown here, the one of the lowest i. A call from inside a task runs its
+/// tasks on the calling thread; a call from another thread of the program while a pass runs
+/// gets threads of its own.
 void parallel_tasks(std::size_t count, void (*run)(void*, std::size_t), void* context);
 
 template <class Task>

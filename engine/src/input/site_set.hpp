@@ -1,5 +1,6 @@
 #pragma once
 // Validated, normalised, duplicate-free input: what every backend and the seam stage work on.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -8,6 +9,7 @@
 
 #include "expanse/types.hpp"
 #include "input/parallel.hpp"
+#include "predicates/exact_lattice.hpp"
 
 namespace expanse::detail {
 
@@ -57,6 +59,15 @@ struct SiteSet {
 /// Error(too_large)) and finds the scale and the box: prepare_sites' first pass, alone for a
 /// backend that sorts and merges on its device.
 InputScan scan_input(std::span<const Point2> input);
+
+/// Whether the apex filters are exact on these sites (predicates/exact_lattice.hpp): integer
+/// inputs spanning at most 5000 units 2^scale_exponent.
+inline bool exact_lattice_arithmetic(const SiteSet& sites) {
+  if (sites.points.empty()) return false;
+  const Box& box = sites.bounds;
+  return exact_lattice_arithmetic(sites.integer_coordinates, sites.scale_exponent,
+                                  std::max(box.max_x - box.min_x, box.max_y - box.min_y));
+}
 
 /// Validates (NaN/Inf -> Error(invalid_input) naming the input index), scales by a power of
 /// two, sorts in Morton order and merges exact duplicates (the smallest input index represents

@@ -1,8 +1,8 @@
 #include "expanse/triangulate.hpp"
 
-#include <chrono>
 #include <future>
 #include <optional>
+#include <type_traits>
 
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
@@ -14,31 +14,9 @@
 #include "pipeline/run_pipeline.hpp"
 #include "seam/adjacency_audit.hpp"
 #include "seam/seam_completion.hpp"
+#include "support/timing.hpp"
 
 namespace expanse {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Runs one named stage and records its wall time.
-template <class Work>
-auto timed(Stats& stats, const char* name, Work&& work) {
-  const auto start = Clock::now();
-  if constexpr (std::is_void_v<decltype(work())>) {
-    work();
-    stats.stages.push_back({name, ms_since(start)});
-  } else {
-    auto result = work();
-    stats.stages.push_back({name, ms_since(start)});
-    return result;
-  }
-}
-
-}  // namespace
 
 struct Triangulator::Impl {
   Options options;
@@ -85,132 +63,186 @@ Mesh detail::run_pipeline(Backend& backend, const Options& options, std::span<co
   return mesh;
 }
 
-void detail::run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points, Mesh& mesh) {
-  const auto start = Clock::now();
-  Stats stats;
-  stats.backend = std::string(to_string(backend.kind()));
-  stats.device = backend.device_name();
-  stats.input_points = points.size();
+namespace detail {
+namespace {
 
-  // The input is accepted once it is validated: from then on `mesh` is rewritten, the storage of
-  // its two large vectors handed to the backend to fill again (allocate_full_triangulation
-  // empties them). Emptied first, so that an error leaves no stale part.
-  detail::PartialTriangulation recycled;
-  bool accepted = false;
-  const auto accept = [&] {
-    if (accepted) return;
-    accepted = true;
-    recycled.triangles.swap(mesh.triangles);
-    recycled.neighbors.swap(mesh.neighbors);
-    mesh.hull.clear();
-    mesh.representative.clear();
-    mesh.stats = Stats{};
+// One run of the pipeline, step by step: prepare the sites (on the device where the backend
+// offers it, else here), grow the front, audit the device's adjacency, complete the seam,
+// output in input indices.
+class PipelineRun {
+  // The device's first triangles turned into input indices during the seam's growth.
+  struct EarlyOutput {
+    std::size_t remapped = 0;  // triangles [0, remapped) are done once `job` is
+    double ms = 0.0;
+    std::future<void> job;
   };
 
-  std::optional<detail::SiteSet> prepared;
-  std::optional<detail::Hull> prepared_hull;
-  std::optional<detail::GrowResult> grown_on_device;
-  if (points.size() >= 3 && backend.prepares_sites(options.layout)) {
-    // The device sorts and merges: the host validates, and finds the hull on the raw points on
-    // another thread while the device uploads and sorts them (it needs the hull after that).
-    const detail::InputScan scan = timed(stats, "prepare (scan)", [&] { return detail::scan_input(points); });
+ public:
+  PipelineRun(Backend& backend, const Options& options, std::span<const Point2> points, Mesh& mesh)
+      : backend_(backend), options_(options), points_(points), mesh_(mesh) {
+    stats_.backend = std::string(to_string(backend.kind()));
+    stats_.device = backend.device_name();
+    stats_.input_points = points.size();
+  }
+
+  void run() {
+    if (points_.size() >= 3 && backend_.prepares_sites(options_.layout)) prepare_on_device();
+    if (!sites_) prepare_on_host();
+    stats_.sites = sites_->points.size();
+    stats_.duplicates = stats_.input_points - stats_.sites;
+    stats_.hull_sites = hull_->sites.size();
+    accept();
+    if (sites_->size() >= 3 && !hull_->collinear) grow_and_complete();
+    stats_.triangles = mesh_.triangles.size();
+    mesh_.hull = to_input_indices(hull_->sites, *sites_);
+    mesh_.representative = std::move(sites_->representative);  // the last use of the sites
+    stats_.total_ms = run_time_.ms();
+    mesh_.stats = std::move(stats_);
+  }
+
+ private:
+  // The input is accepted once it is validated: from then on `mesh` is rewritten, the storage
+  // of its two large vectors handed to the backend to fill again (allocate_full_triangulation
+  // empties them). Emptied first, so that an error leaves no stale part.
+  void accept() {
+    if (accepted_) return;
+    accepted_ = true;
+    recycled_.triangles.swap(mesh_.triangles);
+    recycled_.neighbors.swap(mesh_.neighbors);
+    mesh_.hull.clear();
+    mesh_.representative.clear();
+    mesh_.stats = Stats{};
+  }
+
+  // The device sorts and merges: the host validates, and finds the hull on the raw points on
+  // another thread while the device uploads and sorts them (it needs the hull after that).
+  void prepare_on_device() {
+    const InputScan scan = timed("prepare (scan)", [&] { return scan_input(points_); });
     accept();
     double hull_ms = 0.0;
-    std::future<detail::InputHull> hull_job = std::async(std::launch::async, [&] {
-      const auto hull_start = Clock::now();
-      detail::InputHull found = detail::convex_hull_of_input(points, scan);
-      hull_ms = ms_since(hull_start);
+    std::future<InputHull> hull_job = std::async(std::launch::async, [&] {
+      const Stopwatch hull_time;
+      InputHull found = convex_hull_of_input(points_, scan);
+      hull_ms = hull_time.ms();
       return found;
     });
-    std::optional<detail::InputHull> input_hull;
+    std::optional<InputHull> input_hull;
     const auto hull_sites = [&]() -> const std::vector<std::int32_t>* {
       if (!input_hull) input_hull.emplace(hull_job.get());
       return !input_hull->collinear && input_hull->sites.size() >= 3 ? &input_hull->sites : nullptr;
     };
-    std::optional<detail::InputGrowResult> made = timed(stats, "grow", [&] {
-      return backend.grow_from_input({points, scan, hull_sites, options.layout, &recycled});
+    std::optional<InputGrowResult> made = timed("grow", [&] {
+      return backend_.grow_from_input({points_, scan, hull_sites, options_.layout, &recycled_});
     });
     if (hull_job.valid()) hull_job.wait();  // declined before it needed the hull
-    stats.stages.push_back({"hull (input, while the device prepares)", hull_ms});
+    stats_.stages.push_back({"hull (input, while the device prepares)", hull_ms});
     if (made) {
-      prepared.emplace(std::move(made->sites));
-      prepared_hull.emplace(std::move(made->hull));
-      grown_on_device.emplace(std::move(made->grown));
+      sites_.emplace(std::move(made->sites));
+      hull_.emplace(std::move(made->hull));
+      grown_on_device_.emplace(std::move(made->grown));
     }
   }
-  if (!prepared) {
-    prepared.emplace(timed(stats, "prepare", [&] { return detail::prepare_sites(points); }));
-    prepared_hull.emplace(timed(stats, "hull", [&] { return detail::convex_hull(*prepared); }));
+
+  void prepare_on_host() {
+    sites_.emplace(timed("prepare", [&] { return prepare_sites(points_); }));
+    hull_.emplace(timed("hull", [&] { return convex_hull(*sites_); }));
   }
-  detail::SiteSet& sites = *prepared;
-  const detail::Hull& hull = *prepared_hull;
-  stats.sites = sites.points.size();
-  stats.duplicates = stats.input_points - stats.sites;
-  stats.hull_sites = hull.sites.size();
-  accept();
 
-  if (sites.size() >= 3 && !hull.collinear) {
-    detail::GrowResult grown = grown_on_device ? std::move(*grown_on_device) : timed(stats, "grow", [&] {
-      return backend.grow({sites, hull, options.layout, &recycled});
+  void grow_and_complete() {
+    GrowResult grown = grown_on_device_ ? std::move(*grown_on_device_) : timed("grow", [&] {
+      return backend_.grow({*sites_, *hull_, options_.layout, &recycled_});
     });
-    for (auto& stage : grown.host_stages) stats.stages.push_back(std::move(stage));
-    stats.device_stages = std::move(grown.device_stages);
-    stats.iterations = grown.iterations;
-    stats.deferred_expansions = grown.partial.deferred_expansions;
-    stats.gpu_triangles = grown.partial.triangles.size();
+    for (auto& stage : grown.host_stages) stats_.stages.push_back(std::move(stage));
+    stats_.device_stages = std::move(grown.device_stages);
+    stats_.iterations = grown.iterations;
+    stats_.deferred_expansions = grown.partial.deferred_expansions;
+    stats_.gpu_triangles = grown.partial.triangles.size();
 
-    detail::PartialTriangulation& partial = grown.partial;
-    const std::size_t expected = 2 * static_cast<std::size_t>(sites.size()) - hull.sites.size() - 2;
+    PartialTriangulation& partial = grown.partial;
     // Device adjacency is used only if it passes the audit; otherwise it is derived here.
     if (!partial.neighbors.empty() && !grown.adjacency_audited) {
-      const bool trusted = timed(stats, "audit", [&] { return detail::adjacency_is_trustworthy(partial, hull); });
+      const bool trusted = timed("audit", [&] { return adjacency_is_trustworthy(partial, *hull_); });
       if (!trusted) partial.neighbors.clear();
     }
-    // The device's triangles in input indices, made on other threads while the seam grows on
-    // this one (they are 99.99% of the output; the seam's growth is sequential).
-    std::size_t remapped = 0;
-    double early_output_ms = 0.0;
-    std::future<void> early_output;
+    // Declared after `grown`, so that it is destroyed first: its job reads grown's triangles.
+    EarlyOutput early;
+    const std::size_t expected = 2 * static_cast<std::size_t>(sites_->size()) - hull_->sites.size() - 2;
     if (partial.triangles.size() != expected) {
-      // Something is left open: the seam stage searches a bucket tree over every site (built on
-      // demand where its searches go when the seam is tiny next to the sites).
-      const std::size_t missing = expected - partial.triangles.size();
-      const detail::BucketTree tree = timed(stats, "buckets", [&] { return detail::BucketTree::for_seam(sites, missing); });
-      const auto remap_early = [&] {
-        remapped = partial.triangles.size();
-        early_output = std::async(std::launch::async, [&, device_made = std::span(partial.triangles.data(), remapped)] {
-          const auto begin = Clock::now();
-          detail::remap_to_input(device_made, sites);
-          early_output_ms = ms_since(begin);
-        });
-      };
-      const detail::SeamStats seam =
-          timed(stats, "seam", [&] { return detail::complete_seam(sites, hull, tree, partial, remap_early); });
-      stats.seam_triangles = seam.triangles_made;
-      stats.stages.push_back({"seam: setup", seam.setup_ms});
-      stats.stages.push_back({"seam: open edges", seam.open_ms});
-      stats.stages.push_back({"seam: growth", seam.grow_ms});
-    } else if (options.neighbors && partial.neighbors.size() != partial.triangles.size()) {
-      partial.neighbors = timed(stats, "neighbors", [&] { return detail::derive_neighbors(partial.triangles); });
+      complete(partial, expected - partial.triangles.size(), early);
+    } else if (options_.neighbors && partial.neighbors.size() != partial.triangles.size()) {
+      partial.neighbors = timed("neighbors", [&] { return derive_neighbors(partial.triangles); });
     }
-
-    timed(stats, "output", [&] {
-      if (early_output.valid()) early_output.get();
-      mesh.triangles = std::move(partial.triangles);
-      detail::remap_to_input(std::span(mesh.triangles).subspan(remapped), sites);
-      if (options.neighbors) mesh.neighbors = std::move(partial.neighbors);
-    });
-    if (remapped > 0) stats.stages.push_back({"output: the device's triangles (during the seam)", early_output_ms});
+    output(partial, early);
     // What the backend still does with the output's memory (releasing pinned pages) ends
     // before the output is handed over.
-    if (grown.background.valid()) timed(stats, "backend (after the output)", [&] { grown.background.get(); });
+    if (grown.background.valid()) timed("backend (after the output)", [&] { grown.background.get(); });
   }
-  stats.triangles = mesh.triangles.size();
-  mesh.hull = detail::to_input_indices(hull.sites, sites);
-  mesh.representative = std::move(sites.representative);  // the last use of sites
-  stats.total_ms = ms_since(start);
-  mesh.stats = std::move(stats);
+
+  // Something is left open: the seam stage searches a bucket tree over every site (built on
+  // demand where its searches go when the seam is tiny next to the sites). The device's
+  // triangles are turned into input indices on other threads while the seam grows on this one
+  // (they are 99.99% of the output; the seam's growth is sequential).
+  void complete(PartialTriangulation& partial, std::size_t missing, EarlyOutput& early) {
+    const BucketTree tree = timed("buckets", [&] { return BucketTree::for_seam(*sites_, missing); });
+    const auto remap_early = [&] {
+      early.remapped = partial.triangles.size();
+      early.job = std::async(std::launch::async, [&, device_made = std::span(partial.triangles.data(), early.remapped)] {
+        const Stopwatch output_time;
+        remap_to_input(device_made, *sites_);
+        early.ms = output_time.ms();
+      });
+    };
+    const SeamStats seam = timed("seam", [&] { return complete_seam(*sites_, *hull_, tree, partial, remap_early); });
+    stats_.seam_triangles = seam.triangles_made;
+    stats_.stages.push_back({"seam: setup", seam.setup_ms});
+    stats_.stages.push_back({"seam: open edges", seam.open_ms});
+    stats_.stages.push_back({"seam: growth", seam.grow_ms});
+  }
+
+  void output(PartialTriangulation& partial, EarlyOutput& early) {
+    timed("output", [&] {
+      if (early.job.valid()) early.job.get();
+      mesh_.triangles = std::move(partial.triangles);
+      remap_to_input(std::span(mesh_.triangles).subspan(early.remapped), *sites_);
+      if (options_.neighbors) mesh_.neighbors = std::move(partial.neighbors);
+    });
+    if (early.remapped > 0) stats_.stages.push_back({"output: the device's triangles (during the seam)", early.ms});
+  }
+
+  // Runs one named stage and records its wall time.
+  template <class Work>
+  std::invoke_result_t<Work&> timed(const char* name, Work&& work) {
+    const Stopwatch stage_time;
+    if constexpr (std::is_void_v<decltype(work())>) {
+      work();
+      stats_.stages.push_back({name, stage_time.ms()});
+    } else {
+      auto result = work();
+      stats_.stages.push_back({name, stage_time.ms()});
+      return result;
+    }
+  }
+
+  Backend& backend_;
+  const Options& options_;
+  std::span<const Point2> points_;
+  Mesh& mesh_;
+  const Stopwatch run_time_;
+  Stats stats_;
+  PartialTriangulation recycled_;
+  bool accepted_ = false;
+  std::optional<SiteSet> sites_;
+  std::optional<Hull> hull_;
+  std::optional<GrowResult> grown_on_device_;
+};
+
+}  // namespace
+
+void run_pipeline(Backend& backend, const Options& options, std::span<const Point2> points, Mesh& mesh) {
+  PipelineRun(backend, options, points, mesh).run();
 }
+
+}  // namespace detail
 
 Mesh triangulate(std::span<const Point2> points, const Options& options) {
   return Triangulator(options).triangulate(points);

@@ -5,7 +5,7 @@
 #include <cstddef>
 
 #include "hull/convex_hull.hpp"
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 namespace expanse::detail {
 

@@ -8,7 +8,7 @@
 #include "grid/bucket_tree.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 namespace expanse::detail {
 

@@ -1,4 +1,4 @@
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 #include "input/parallel.hpp"
 
