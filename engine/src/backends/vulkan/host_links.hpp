@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 namespace expanse::detail::vk {
 

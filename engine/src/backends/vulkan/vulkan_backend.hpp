@@ -10,7 +10,7 @@
 #include "expanse/types.hpp"
 #include "hull/convex_hull.hpp"
 #include "input/site_set.hpp"
-#include "seam/partial_triangulation.hpp"
+#include "backends/partial_triangulation.hpp"
 
 namespace expanse::detail {
 class Backend;
