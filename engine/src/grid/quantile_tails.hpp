@@ -54,7 +54,7 @@ struct TailWeighing {
   int factor = kTailFactor;
 };
 
-/// A backend's switch (EXPANSE_CUDA_TAILS, EXPANSE_VULKAN_TAILS; nullptr when unset): "0" weighs
+/// A backend's switch (EXPANSE_CUDA_TAILS; nullptr when unset): "0" weighs
 /// nothing (plain quantiles, for comparisons), "share,factor" so; anything else the default.
 inline TailWeighing parse_tail_weighing(const char* text) {
   TailWeighing w;
