@@ -401,7 +401,10 @@ Kernel& Context::kernel(const std::string& name, std::span<const std::uint32_t> 
                         std::span<const std::uint32_t> specialization,
                         std::span<const VkDescriptorType> types) {
   std::string key = name;
-  for (std::uint32_t v : specialization) key += "/" + std::to_string(v);
+  for (std::uint32_t v : specialization) {
+    key += '/';
+    key += std::to_string(v);
+  }
   for (auto& [k, kernel] : kernels_)
     if (k == key) return *kernel;
   kernels_.emplace_back(key, std::make_unique<Kernel>(*this, spirv, bindings, push_constant_bytes,
