@@ -98,7 +98,7 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, Ta
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
-/// A quantile axis for its guide (grid/quantile_guide.hpp): bounds[1 .. cells) are its
+/// A quantile axis for its guide (quantile_guide.hpp): bounds[1 .. cells) are its
 /// boundaries; `logarithmic` and `even` take the two keys' tables (quantile_guide_capacity
 /// entries each).
 struct GuideAxis {

@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "device_compat.cuh"
-#include "grid/quantile_guide.hpp"
+#include "quantile_guide.hpp"
 #include "predicates/exact_arith.hpp"
 
 namespace expanse::detail::cuda {
@@ -90,7 +90,7 @@ EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d
   return cocircular_perturbed(a, b, c, d);
 }
 
-/// A quantile axis' guide (grid/quantile_guide.hpp): its key and its table, first[k] the
+/// A quantile axis' guide (quantile_guide.hpp): its key and its table, first[k] the
 /// number of column boundaries in bins below k. None (first == nullptr): the full binary search.
 /// H100, 4096^2 uniform: cells looked up by 12-step binary searches cost the star kernel about a
 /// third of its time.
