@@ -280,7 +280,7 @@ struct GridView {
 /// compiler is told has them, so that it drops the uniform cells' arithmetic and the unguided
 /// binary search; `guided_tails` the same with TailColumns, whose scans across only its walks
 /// compile (in every walk they cost inputs that have no such columns 1.5 ms at 4096^2: H100,
-/// gaussian, session 31 call 3). The caller must know which kind the grid is.
+/// gaussian). The caller must know which kind the grid is.
 enum class GridKind { any, uniform, guided, guided_tails };
 
 template <GridKind Kind>

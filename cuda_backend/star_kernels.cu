@@ -25,6 +25,7 @@
 #include <type_traits>
 
 #include "cuda_internal.hpp"
+#include "support/timing.hpp"
 #include "input/parallel.hpp"
 #include "bucket_kernels.cuh"
 #include "star_grid.hpp"
@@ -722,7 +723,6 @@ int blocks_for(std::size_t n, int threads = kThreads) { return static_cast<int>(
 }  // namespace
 
 void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, const SitesOnDevice* on_device) {
-  using clock = std::chrono::steady_clock;
   const cudaStream_t stream = ctx.stream;
   const auto& points = input.sites.points;
   const std::size_t n = points.size();
@@ -736,7 +736,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   require_device_memory(n * per_site_bytes() + cells * sizeof(std::uint32_t), n, "sites");
 
   StageTimer timer(stream);
-  const auto host_start = clock::now();
+  const auto host_start = Clock::now();
   DeviceArray<double2> d_uploaded_points(on_device ? 0 : n, stream);
   DeviceArray<int> d_uploaded_hull(on_device ? 0 : input.hull.sites.size(), stream);
   const double2* d_points = on_device ? on_device->points : d_uploaded_points.get();
@@ -748,7 +748,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     ctx.staging->upload(d_uploaded_hull.get(), input.hull.sites.data(), d_uploaded_hull.bytes(), stream);
     timer.end();
   }
-  const auto host_uploaded = clock::now();
+  const auto host_uploaded = Clock::now();
 
   const GridShape uniform_shape =
       uniform_cells_shape(input.sites.bounds, n, input.layout.sites_per_bucket, input.sites.integer_coordinates);
@@ -1188,10 +1188,10 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   // the seam stage appends what deferred sites leave in place, where exactly-sized vectors would
   // have to move (805 MB at 4096^2) first. Fresh pages are faulted in on every core and zeroed
   // while the star kernel runs: done after it, this took ~460 ms at 4096^2 on the H100's host.
-  const auto host_launched = clock::now();
+  const auto host_launched = Clock::now();
   auto& partial = result.partial;
   allocate_full_triangulation(partial, n, input.hull.sites.size(), input.recycled);
-  const auto host_allocated = clock::now();
+  const auto host_allocated = Clock::now();
   // EXPANSE_CUDA_PIN_OUTPUT=1 pins the output in place while the device still works, so that
   // the download runs at the bus's speed; its pages are released on another thread while the
   // seam and output stages run (GrowResult::background). Off by default: on the H100's host at
@@ -1207,7 +1207,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
         pinned->pin(partial.neighbors.data(), partial.neighbors.capacity() * sizeof(partial.neighbors[0]));
     }
   }
-  const auto host_pinned = clock::now();
+  const auto host_pinned = Clock::now();
 
   EXPANSE_CUDA(cudaStreamSynchronize(stream));
   unsigned int sizes[8];
@@ -1293,7 +1293,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
     timer.end();
   }
 
-  const auto host_emit = clock::now();
+  const auto host_emit = Clock::now();
   partial.triangles.resize(triangle_count);  // shrinks: no reallocation
   partial.neighbors.resize(with_neighbors ? triangle_count : 0);
   timer.begin("download");
@@ -1308,7 +1308,7 @@ void grow_per_site(Context& ctx, const GrowInput& input, GrowResult& result, con
   if (with_neighbors) download(partial.neighbors.data(), d_neighbors.get());
   timer.end();
   EXPANSE_CUDA(cudaStreamSynchronize(stream));
-  const auto host_done = clock::now();
+  const auto host_done = Clock::now();
   if (!pinned->empty())
     result.background = std::async(std::launch::async, [release = std::move(pinned)]() mutable { release.reset(); });
 
