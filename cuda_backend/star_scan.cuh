@@ -151,23 +151,22 @@ enum class Walker { thread, warp };
 /// ExactLattice: the sites satisfy exact_lattice_arithmetic (predicates/exact_lattice.hpp), so
 /// the filters' values are exact and every candidate is decided in the scan. A template
 /// parameter, not a flag: tested at run time it cost the other inputs' kernel 60% (H100, 4096^2
-/// uniform star kernel 62.6 -> 100.5 ms, session 8 call 5).
+/// uniform star kernel 62.6 -> 100.5 ms).
 ///
 /// FirstPass: the light walk of the kernels' first pass, which leaves its hard sites to the
 /// second (a full walk, by a warp, with the full budget):
 ///  - no exact path: at the first candidate the filters cannot decide, the walk stops, deferred
 ///    with `handed_on` set. Without the out-of-line call the kernel keeps more of its walk in
 ///    registers (a value live across a call lives in local memory, and the candidate loop
-///    reloads it): star kernel -2% (uniform) to -12% (lattice), H100, session 11 call 7;
+///    reloads it): star kernel -2% (uniform) to -12% (lattice), H100;
 ///  - no row clipping (clip_row): for the typical search the cut costs more than the cells it
 ///    saves, and its bounds cost registers; the searches that need it (long thin regions along
 ///    the hull) run past the first pass's budget and are walked again with it. Star kernel
-///    -21% (uniform) to -26% (gaussian) with no clipping anywhere (session 11 call 10).
+///    -21% (uniform) to -26% (gaussian) with no clipping anywhere (H100).
 ///
 /// ReadsInbox: the walk of an odd site in the second of two phases (StarInbox), which starts at
 /// a neighbour from its inbox and takes steps from it. A template parameter for the registers:
-/// the reading compiled into every walk cost the one-phase star kernels 6% (H100, session 15
-/// call 2).
+/// the reading compiled into every walk cost the one-phase star kernels 6% (H100).
 ///
 /// Strips: an apex search whose region lies in the grid's two outermost columns or rows and runs
 /// along them at least kStripMinCells cells scans that side's strip (BoundaryStrips, g.strips)
@@ -243,8 +242,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
   // keep their former code (the box, then the inbox; a region for a given neighbour too, below;
   // region_of_best's former shape), so that their kernels compile exactly as before (the same
-  // SASS, session 29 call 6): with the new code the 4096^2 lattice's star stage took 15.85 ms
-  // instead of 15.70 (H100, call 7).
+  // SASS): with the new code the 4096^2 lattice's star stage took 15.85 ms instead of 15.70
+  // (H100).
   bool given = false;
   CellBox target{0, 0, -1, -1};
   if constexpr (ExactLattice) target = nearest_box();
@@ -276,10 +275,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // `inside` (a box of quantile cells, the one just scanned), in the second phase's walks
   // (ReadsInbox), that box itself where it holds the region (quantile_box_holds): most searches
   // end there (kuzmin, counted on the CPU: 80% of these tests), and the region's four look-ups
-  // were half of the light walk's. The first phase's walks kept it a little slower (H100, 4096^2,
-  // session 29 calls 9-10: kuzmin's first phase 32.15 -> 32.35 ms with it; without it there,
-  // kuzmin GPU-only 52.63 -> 52.40, gaussian as it was). The look-up after the branches rather
-  // than in each: ptxas placed kuzmin's spills better so (52.95 -> 52.56 ms, call 3). A
+  // were half of the light walk's. The first phase's walks are a little faster without it
+  // (H100, 4096^2: kuzmin's first phase 32.15 ms against 32.35 with it). The look-up after the
+  // branches rather than in each: ptxas places kuzmin's spills better so (52.95 -> 52.56 ms). A
   // lattice's walks keep the former shape (see `given`).
   auto region_of_best = [&](const CellBox* inside = nullptr) {
     if constexpr (ExactLattice) {
@@ -437,19 +435,11 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
                        const ex::ApexLift* best_lift = nullptr, bool loaded = false) {
     if (!loaded) p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
-    // formed here rather than kept: registers cost this kernel more than the few operations
-    // (the edge formed once a row segment instead: uniform 4096^2 star kernels 25.8 -> 26.4 ms,
-    // H100, session 32 call 1). The best's lift kept as the walk's state lost too, GPU-only
-    // at 4096^2 uniform: in registers 31.8 -> 32.2 ms at 7 blocks a multiprocessor (72
-    // registers) and 34.9 at 8, in shared memory (a slot a thread) 31.2 -> 33.8 (session 33
-    // calls 3 and 6). The apex searches' own loop (below) passes its edge and keeps the lift as
-    // the loop's state (`best_lift`), which fits (session 34).
-    // (ptxas itself forms the edge's B and |B|^2 once a row segment: ncu's SASS, call 4.)
-    // The incircle regrouped around the candidate's orientation (|B|^2 (Px Cy - Py Cx) +
-    // |C|^2 Kp - |P|^2 Kc: the same monomials, 24 operations instead of 28, 42 FP64
-    // instructions in the loop instead of 46) was no faster: 4096^2 uniform stars 25.41 ms
-    // against 24.86 with this form (H100, session 34 call 2). With less work independent of
-    // the candidate's point, ptxas starts on the point straight after its load.
+    // formed here rather than kept as the walk's state: registers cost this kernel more than
+    // the few operations (ptxas itself forms the edge's B and |B|^2 once a row segment). The
+    // apex searches' own loop (below) passes its edge and keeps the lift as the loop's state
+    // (`best_lift`), which fits. With little work independent of the candidate's point, ptxas
+    // starts on the point straight after its load.
     const ex::ApexPoint q = ex::apex_point(edge, p.x, p.y);
     d2 = q.d2;  // in the nearest-neighbour search a = s: |p - s|^2
     const ex::FilterSigns o = ex::apex_orient_signs(ex::apex_lift(edge, q));
@@ -464,7 +454,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
       // The values are exact (exact_lattice_arithmetic): decided here, as decide_exactly
       // would: equal distances by site id, cocircular candidates by CGAL's perturbation, its
       // orientations exact in plain doubles too (the exact fallback of orient(), inlined into
-      // the scan, held the 4096^2 lattice at 121 ms against 34: session 8 calls 6 and 11).
+      // the scan, held the 4096^2 lattice at 121 ms against 34, H100).
       const double k = ex::apex_lift(edge, q).k;  // orient2d(a, b, p)
       if (phase == nearest) {
         verdict = best < 0 || d2 < best_d2 || (d2 == best_d2 && ip < best) ? 1 : 0;
@@ -655,31 +645,22 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
           }
           if constexpr (By == Walker::thread) {
             // A warp's lanes leave this loop as their row segments end and wait there for the
-            // longest (7.2 lanes of 32 test candidates on average; ncu, session 33 call 4). One
-            // candidate an iteration of the scan loop instead ran the body at 9.9 lanes, but its
-            // state then spilled inside the loop: 4096^2 uniform 31.2 -> 40.8 ms (call 5).
+            // longest (7.2 lanes of 32 test candidates on average; ncu, H100); the loop's state
+            // stays in registers only so.
             //
             // One loop for each kind of search, each compiled for it (the phase is fixed within a
             // row segment): the apex searches' loop tests no phase and keeps no branch around the
             // nearest-neighbour verdict, and counts the predicates without a test of the best:
             // two for a candidate left of the edge, taken back where no best exists yet, and
             // then the candidate is flagged (it is better), so the correction waits for the flag.
-            // a, b and the best are turned away only where the filters flag them. With the
-            // filters' factors as immediates (apex_filter.hpp), one loop for both with the same
-            // counting (the best tested) and the same turning away ran 71 instructions a
-            // candidate instead of 81 (the whole kernel 13.27 -> 12.62 G warp instructions: ncu,
-            // session 34 call 4), and the 4096^2 uniform stars took 24.86 ms instead of 25.40
-            // (call 2). The budget and the counters taken out of the loop as well (its end at
-            // the budget, the work and predicates counted from its length) pushed the walk's
-            // counters and flags to local memory around it: 31.2 -> 38.4 ms GPU-only (call 1).
-            // The apex loop then 65 instructions, 4096^2 uniform 30.2 ms (call 5); keeping the
-            // best's lift in it, 51, 30.1 ms (call 6); and loading the next point ahead, 57
-            // instructions but 29.2 ms (call 7). Kuzmin's cells (TailColumns) lost 0.4 ms with the
-            // last two and keep the loop without them (kLoopAhead; call 8: kuzmin 45.4 -> 44.3).
+            // a, b and the best are turned away only where the filters flag them. The apex loop
+            // keeps the best's lift and loads the next point ahead (57 instructions a candidate;
+            // 4096^2 uniform 29.2 ms GPU-only against 30.2 without, H100, 2026-11-28). Kuzmin's
+            // cells (TailColumns) lost 0.4 ms with those two and keep the loop without them
+            // (kLoopAhead; kuzmin 45.4 -> 44.3 ms).
             if (ExactLattice || phase == nearest) {
-              // (A lattice keeps the one loop it had: with the apex searches' loop below its
-              // 4096^2 stars took 16.35 ms against 15.87 (session 34 call 5); back on this one,
-              // 16.12 (call 8).)
+              // (A lattice keeps this loop: with the apex searches' loop below its 4096^2 stars
+              // took 16.35 ms against 15.87, H100.)
               for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
                 ++work;
                 double2 p;
@@ -914,8 +895,8 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
 }
 
 /// How a per-site star's searches visit the grid: rings of cells around each edge (walk_star)
-/// or box scans (walk_star_boxes). Both find the same stars; EXPANSE_CUDA_SEARCH picks one on
-/// the device, for comparisons.
+/// or box scans (walk_star_boxes). Both find the same stars; the kernels scan boxes, and the host
+/// tests walk rings too, as a second search to compare with.
 enum class StarSearch { rings, boxes };
 
 /// Work (cells or row segments, plus sites, visited by one site's walk) past which a site
