@@ -13,7 +13,6 @@
 namespace expanse::detail::cuda {
 
 namespace ex = ::expanse::detail::exact;
-inline constexpr int kUncertain = ex::uncertain;
 
 EXPANSE_DEVICE_FORCE bool safe_point(double2 p) {
   return ex::in_safe_range(p.x) && ex::in_safe_range(p.y);
@@ -23,12 +22,12 @@ EXPANSE_DEVICE_FORCE bool safe_point(double2 p) {
 /// needs coordinates in the safe range; outside it the answer is `uncertain`.
 EXPANSE_DEVICE int orient(double2 a, double2 b, double2 c) {
   int s = ex::orient2d_filter(a.x, a.y, b.x, b.y, c.x, c.y);
-  if (s != kUncertain) return s;
+  if (s != ex::uncertain) return s;
   s = ex::orient2d_certified(a.x, a.y, b.x, b.y, c.x, c.y);
-  if (s != kUncertain) return s;
+  if (s != ex::uncertain) return s;
   if (safe_point(a) && safe_point(b) && safe_point(c))
     return ex::orient2d_expansion(a.x, a.y, b.x, b.y, c.x, c.y);
-  return kUncertain;
+  return ex::uncertain;
 }
 
 EXPANSE_DEVICE_FORCE bool lex_less(double2 p, double2 q) {
@@ -58,7 +57,7 @@ EXPANSE_DEVICE_FORCE int cocircular_perturbed_by(double2 a, double2 b, double2 c
       o = orient(a, d, c);
     else
       o = orient(d, b, c);
-    if (o == kUncertain) return kUncertain;
+    if (o == ex::uncertain) return ex::uncertain;
     if (o != 0) return o;
   }
   return -1;
@@ -84,8 +83,8 @@ EXPANSE_DEVICE_FORCE int orient_on_lattice(double2 a, double2 b, double2 c) {
 /// incircle that neither the filter, the certificate nor that decides is deferred.
 EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
   int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s == kUncertain) s = ex::incircle_exact_differences_grown(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == ex::uncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == ex::uncertain) s = ex::incircle_exact_differences_grown(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (s != 0) return s;  // a sign, or uncertain
   return cocircular_perturbed(a, b, c, d);
 }
@@ -310,7 +309,7 @@ EXPANSE_DEVICE_FORCE GridKind kind_of(const GridView& g) {
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
 EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {
-  if (!(safe_point(s) && safe_point(p) && safe_point(q))) return kUncertain;
+  if (!(safe_point(s) && safe_point(p) && safe_point(q))) return ex::uncertain;
   const auto pdx = ex::exact_difference(p.x, s.x), pdy = ex::exact_difference(p.y, s.y);
   const auto qdx = ex::exact_difference(q.x, s.x), qdy = ex::exact_difference(q.y, s.y);
   const auto dp = pdx * pdx + pdy * pdy;
@@ -374,7 +373,7 @@ EXPANSE_DEVICE int nearest_site(const GridView& g, int self, double2 s, bool* ok
           take = false;
         } else {
           const int cmp = compare_distance(s, p, best_p);
-          if (cmp == kUncertain) {
+          if (cmp == ex::uncertain) {
             *ok = false;
             return;
           }
@@ -597,12 +596,12 @@ EXPANSE_DEVICE int find_apex(const GridView& g, int ia, double2 a, int ib, doubl
         const double2 p = g.points[j];
         const int o = orient(a, b, p);
         ++*predicates;
-        if (o == kUncertain) { failed = true; return; }
+        if (o == ex::uncertain) { failed = true; return; }
         if (o <= 0) continue;
         if (best >= 0) {
           const int in = incircle_perturbed(a, b, bp, p);
           ++*predicates;
-          if (in == kUncertain) { failed = true; return; }
+          if (in == ex::uncertain) { failed = true; return; }
           if (in <= 0) continue;
         }
         best = id;

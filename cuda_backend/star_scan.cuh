@@ -130,14 +130,14 @@ EXPANSE_DEVICE_NOINLINE int decide_exactly(const double2* points, bool nearest, 
   const double2 p = load_site(points, ip);
   if (nearest) {  // a filter leaves a nearest-neighbour candidate undecided only against a best
     const int cmp = compare_distance(load_site(points, s), p, load_site(points, best));
-    return cmp == kUncertain ? 2 : (cmp < 0 || (cmp == 0 && ip < best)) ? 1 : 0;
+    return cmp == ex::uncertain ? 2 : (cmp < 0 || (cmp == 0 && ip < best)) ? 1 : 0;
   }
   const double2 pa = load_site(points, a), pb = load_site(points, b);
   const int o = orient(pa, pb, p);
-  if (o == kUncertain) return 2;
+  if (o == ex::uncertain) return 2;
   if (o <= 0) return 0;
   const int sign = best < 0 ? 1 : incircle_perturbed(pa, pb, load_site(points, best), p);
-  return sign == kUncertain ? 2 : sign > 0 ? 1 : 0;
+  return sign == ex::uncertain ? 2 : sign > 0 ? 1 : 0;
 }
 
 /// Who walks one site's star: a thread alone, or the 32 threads of a warp together, each testing
