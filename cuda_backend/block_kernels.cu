@@ -9,11 +9,11 @@
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include "cuda_internal.hpp"
+#include "support/timing.hpp"
 #include "device_geometry.cuh"
 #include "sorted_order_kernels.cuh"
 
@@ -303,7 +303,6 @@ int grid_for(std::size_t n, int threads = 256) { return static_cast<int>((n + th
 }  // namespace
 
 void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result) {
-  using clock = std::chrono::steady_clock;
   const cudaStream_t stream = ctx.stream;
   const Layout& layout = input.layout;
   const auto& sites = input.sites;
@@ -335,7 +334,7 @@ void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result)
   threads = std::clamp((threads + 31) / 32 * 32, 32, 1024);
 
   StageTimer timer(stream);
-  const auto host_start = clock::now();
+  const auto host_start = Clock::now();
   DeviceArray<double2> d_points(n, stream);
   DeviceArray<int> d_hull(input.hull.sites.size(), stream), d_pred(n, stream);
   timer.begin("upload");
@@ -472,12 +471,11 @@ void grow_paper_blocks(Context& ctx, const GrowInput& input, GrowResult& result)
   timer.begin("download");
   ctx.staging->download(partial.triangles.data(), d_triangles.get(), triangle_count * 3 * sizeof(int), stream);
   timer.end();
-  const auto host_done = clock::now();
+  const double host_ms = ms_since(host_start);
   partial.deferred_expansions = counters[1];
   result.iterations = iterations;
   result.device_stages = timer.collect();
-  result.host_stages.push_back(
-      {"cuda paper layout (host)", std::chrono::duration<double, std::milli>(host_done - host_start).count()});
+  result.host_stages.push_back({"cuda paper layout (host)", host_ms});
   RunCounters& rc = last_run_counters();
   rc = {};
   std::uint64_t predicates = 0;

@@ -98,7 +98,7 @@ __global__ void quantile_kernel(const double* sorted, int samples, int cells, Ta
   bounds[j] = (j == 0 || j == cells) ? 0.0 /* never read */ : quantile_boundary(sorted, samples, cells, j, tails);
 }
 
-/// A quantile axis for its guide (grid/quantile_guide.hpp): bounds[1 .. cells) are its
+/// A quantile axis for its guide (quantile_guide.hpp): bounds[1 .. cells) are its
 /// boundaries; `logarithmic` and `even` take the two keys' tables (quantile_guide_capacity
 /// entries each).
 struct GuideAxis {
@@ -117,8 +117,7 @@ struct GuideAxis {
 /// Both axes' guides' tables, a thread an entry (blockIdx.y: the axis; blockIdx.z: 0 the
 /// logarithmic key, 1 the even one), and each table's cost summed into costs[2 * axis + z]
 /// (zeroed before; build_quantile_guide on the device). In one block an axis, the two axes one
-/// after the other, the tables took 0.18 ms of kuzmin's bucketing at 4096^2 (H100, ncu, session 28
-/// call 1): each entry is a binary search over the boundaries.
+/// after the other, the tables took 0.18 ms of kuzmin's bucketing at 4096^2 (H100, ncu): each entry is a binary search over the boundaries.
 constexpr int kGuideThreads = 256;
 __global__ void __launch_bounds__(kGuideThreads) guide_tables_kernel(GuideAxis x, GuideAxis y,
                                                                      unsigned long long* costs) {
@@ -162,12 +161,15 @@ inline int bucket_blocks(std::size_t n) { return static_cast<int>((n + kBucketTh
 /// uniform cells take `uniform_shape` (uniform_cells_shape: no more cells than `shape`).
 class CellBuckets {
  public:
-  CellBuckets(std::size_t capacity, const GridShape& shape, const GridShape& uniform_shape, cudaStream_t stream)
+  /// `tuning`: its grid (Tuning::grid forces either kind) and tails.
+  CellBuckets(std::size_t capacity, const GridShape& shape, const GridShape& uniform_shape, const Tuning& tuning,
+              cudaStream_t stream)
       : shape_(shape),
         uniform_shape_(uniform_shape),
         cells_(static_cast<std::size_t>(shape.gx) * shape.gy),
-        // EXPANSE_CUDA_GRID=uniform selects uniform cells (for comparisons).
-        quantile_(!uniform_grid_asked() && capacity >= 64),
+        quantile_(tuning.grid != Tuning::Grid::uniform && capacity >= 64),
+        quantile_forced_(tuning.grid == Tuning::Grid::quantile),
+        tails_(tuning.tails),
         samples_(quantile_sample_count(capacity)),
         keys(capacity, stream),
         keys_sorted(capacity, stream),
@@ -213,7 +215,7 @@ class CellBuckets {
     if (quantile_) {
       sample_kernel<<<bucket_blocks(samples), kBucketThreads, 0, stream>>>(points, n, samples, sx_.get(), sy_.get());
       EXPANSE_CUDA(cudaGetLastError());
-      if (!quantile_asked() && samples >= kEvennessMinSamples && g.max_x > g.min_x && g.max_y > g.min_y) {
+      if (!quantile_forced_ && samples >= kEvennessMinSamples && g.max_x > g.min_x && g.max_y > g.min_y) {
         EXPANSE_CUDA(cudaMemsetAsync(bins_.get(), 0, bins_.bytes(), stream));
         evenness_count_kernel<<<std::min(64, bucket_blocks(samples)), kBucketThreads, 0, stream>>>(
             evenness_frame(g), sx_.get(), sy_.get(), samples, bins_.get());
@@ -230,13 +232,13 @@ class CellBuckets {
       apply_shape(g, uniform_shape_);
     } else {
       // Quantile cells: as many columns as rows (quantile_shape), at most cells_ of them.
-      const GridShape q = square_quantile_off() ? shape_ : quantile_shape(shape_, Box{g.min_x, g.min_y, g.max_x, g.max_y});
+      const GridShape q = quantile_shape(shape_, Box{g.min_x, g.min_y, g.max_x, g.max_y});
       apply_shape(g, q);
       std::size_t bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sx_.get(), sx2_.get(), samples, 0, 64, stream));
       bytes = temp_.bytes();
       EXPANSE_CUDA(cub::DeviceRadixSort::SortKeys(temp_.get(), bytes, sy_.get(), sy2_.get(), samples, 0, 64, stream));
-      const TailWeighing weighing = tail_weighing();
+      const TailWeighing weighing = tails_;
       quantile_kernel<<<bucket_blocks(q.gx + 1), kBucketThreads, 0, stream>>>(sx2_.get(), samples, q.gx, weighing,
                                                                              xb_.get(), heavy_word);
       quantile_kernel<<<bucket_blocks(q.gy + 1), kBucketThreads, 0, stream>>>(sy2_.get(), samples, q.gy, weighing,
@@ -244,7 +246,7 @@ class CellBuckets {
       EXPANSE_CUDA(cudaGetLastError());
       g.xb = xb_.get();
       g.yb = yb_.get();
-      if (!guide_off_asked() && quantile_guided(q.gx) && quantile_guided(q.gy)) {
+      if (quantile_guided(q.gx) && quantile_guided(q.gy)) {
         // Each axis' guide chooses its key on the device; the host waits for the choice (quantile
         // cells only: the two sample sorts and the tables, well under a millisecond). The costs
         // are summed in the evenness test's histogram, done with (an array of their own, however
@@ -271,22 +273,13 @@ class CellBuckets {
     // Kuzmin's centre, finer than the quantisation, has thousands of sites a code at 4096^2, each
     // code's spread over hundreds of cells: in input order the second phase's parity fell at
     // random there, and it searched for 5.26 M sites where the host's order left 4.58 M; in x
-    // order 4.59 M, the star stage 46.5 -> 45.2 ms and kuzmin GPU-only, with the device
-    // preparation's other changes of session 28, 55.1 -> 53.3 (H100, session 28 calls 3-8).
-    // Elsewhere the sites' order (Morton) serves better: with every quantile cell's sites in a
-    // spatial order, gaussian lost 0.5 ms at 4096^2 (call 7). EXPANSE_CUDA_CELL_ORDER=sites keeps
-    // the sites' order, =x orders every grid's cells (both for comparisons).
-    const char* order_env = std::getenv("EXPANSE_CUDA_CELL_ORDER");
-    const bool sites_asked = order_env && std::strcmp(order_env, "sites") == 0;
-    const bool x_asked = order_env && std::strcmp(order_env, "x") == 0;
-    const bool within = (x_asked || (unordered_runs && !sites_asked)) && key_bits_ + kSubCellBits <= 32;
+    // order 4.59 M, and the star stage 46.5 -> 45.2 ms (H100, kuzmin 4096^2). Elsewhere the
+    // sites' order (Morton) serves better: with every quantile cell's sites in a spatial order,
+    // gaussian lost 0.5 ms at 4096^2.
+    const bool within = unordered_runs && key_bits_ + kSubCellBits <= 32;
     const int shift = within ? kSubCellBits : 0;
     cell_keys_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(g, points, n, keys.get(), ids.get(), within);
     EXPANSE_CUDA(cudaGetLastError());
-    // A counting sort (atomic counts a cell, a scan, a scatter, each cell put back in site order;
-    // branch s32-counting-bucket) was slower on uniform cells: the sites come in Morton order, so
-    // a warp's atomics fall on a few cells and serialise (H100, 4096^2 uniform, the bucket
-    // stage 1.05 -> 1.14 ms; session 33 call 1).
     std::size_t bytes = temp_.bytes();
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(temp_.get(), bytes, keys.get(), keys_sorted.get(), ids.get(),
                                                  sorted_ids.get(), n, 0, key_bits_ + shift, stream));
@@ -295,7 +288,7 @@ class CellBuckets {
     EXPANSE_CUDA(cudaGetLastError());
     // The cells of the shape applied, not the room for them: the last site's thread fills the
     // starts of the cells after its own alone (uniform cells, coarser than the room, left 3.6M
-    // of them to one thread at 4096^2: the bucket stage 1.1 -> 14.3 ms, session 16 call 11).
+    // of them to one thread at 4096^2: the bucket stage 1.1 -> 14.3 ms).
     cell_start_kernel<<<bucket_blocks(n), kBucketThreads, 0, stream>>>(keys_sorted.get(), n, g.gx * g.gy,
                                                                        cell_start.get());
     EXPANSE_CUDA(cudaGetLastError());
@@ -304,20 +297,6 @@ class CellBuckets {
   }
 
  private:
-  // EXPANSE_CUDA_GUIDE=off: quantile cells by the full binary search (for comparisons).
-  static bool guide_off_asked() {
-    const char* env = std::getenv("EXPANSE_CUDA_GUIDE");
-    return env && std::strcmp(env, "off") == 0;
-  }
-  // EXPANSE_CUDA_GRID=quantile: quantile cells even for an evenly spread input (comparisons).
-  static bool quantile_asked() {
-    const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
-    return grid_env && std::strcmp(grid_env, "quantile") == 0;
-  }
-  static bool uniform_grid_asked() {
-    const char* grid_env = std::getenv("EXPANSE_CUDA_GRID");
-    return grid_env && std::strcmp(grid_env, "uniform") == 0;
-  }
   std::size_t temp_bytes(std::size_t capacity, cudaStream_t stream) const {
     std::size_t sort_bytes = 0, sample_bytes = 0;
     EXPANSE_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, static_cast<std::uint32_t*>(nullptr),
@@ -332,7 +311,9 @@ class CellBuckets {
 
   GridShape shape_, uniform_shape_;
   std::size_t cells_;
-  bool quantile_;   ///< quantile cells possible (not EXPANSE_CUDA_GRID=uniform, not tiny)
+  bool quantile_;   ///< quantile cells possible (not Tuning::Grid::uniform, not tiny)
+  bool quantile_forced_;  ///< quantile cells whatever the evenness test (Tuning::Grid::quantile)
+  TailWeighing tails_;
   bool uniform_ = false;  ///< the last build's choice
   bool heavy_x_ = false;  ///< the last build's quantile cells: guides, and heavy x-tails
   int samples_;

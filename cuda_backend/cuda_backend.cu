@@ -15,12 +15,9 @@ namespace expanse::detail::cuda {
 
 namespace {
 
-/// memcpy spread over `threads` threads ($EXPANSE_CUDA_COPY_THREADS overrides, for
-/// comparisons): one core copies ~10 GB/s, far below what PCIe delivers.
+/// memcpy spread over `threads` threads: one core copies ~10 GB/s, far below what PCIe delivers.
 void parallel_copy(void* dst, const void* src, std::size_t bytes, std::size_t threads) {
   constexpr std::size_t per_thread_min = std::size_t{2} << 20;
-  if (const char* env = std::getenv("EXPANSE_CUDA_COPY_THREADS"); env && std::atol(env) > 0)
-    threads = static_cast<std::size_t>(std::atol(env));
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t parts =
       std::min<std::size_t>({threads, hw, std::max<std::size_t>(1, bytes / per_thread_min)});
@@ -143,10 +140,7 @@ std::vector<StageTime> StageTimer::collect() {
   return out;
 }
 
-StreamTimeline::StreamTimeline() {
-  const char* env = std::getenv("EXPANSE_CUDA_STAR_TIMELINE");
-  on_ = env && std::strcmp(env, "1") == 0;
-}
+StreamTimeline::StreamTimeline(bool on) : on_(on) {}
 
 StreamTimeline::~StreamTimeline() {
   for (auto& m : marks_) cudaEventDestroy(m.second);
@@ -255,7 +249,7 @@ class CudaBackend final : public Backend {
       throw Error(ErrorCode::device_error, "CUDA backend: device arithmetic self-test failed on " + ctx_.name + ": " + why);
     // The main ring: 64 MiB chunks drained by 16 threads. The host's copy out of pinned memory
     // is what limits a download (805 MB at 4096^2: the bus alone 15 ms, through 32 MiB chunks
-    // and 8 threads 49 ms, 64 MiB and 16 threads 28 ms; H100 host, session 7 call 3).
+    // and 8 threads 49 ms, 64 MiB and 16 threads 28 ms; H100 host).
     staging_ = std::make_unique<PinnedStaging>(std::size_t{64} << 20, 16);
     ctx_.staging = staging_.get();
     if (ctx_.own_stream) {
@@ -301,10 +295,9 @@ class CudaBackend final : public Backend {
     return result;
   }
 
-  // EXPANSE_CUDA_PREPARE=host keeps the preparation on the host (for comparisons).
+  // Tuning::prepare_on_device (EXPANSE_CUDA_PREPARE=host) keeps the preparation on the host.
   bool prepares_sites(const Layout& layout) const override {
-    const char* env = std::getenv("EXPANSE_CUDA_PREPARE");
-    return layout.seeding != Layout::Seeding::paper_blocks && !(env && std::strcmp(env, "host") == 0);
+    return layout.seeding != Layout::Seeding::paper_blocks && tuning_from_environment().prepare_on_device;
   }
 
   std::optional<InputGrowResult> grow_from_input(const InputGrowInput& input) override {

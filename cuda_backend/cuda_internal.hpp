@@ -11,6 +11,7 @@
 
 #include "backends/backend.hpp"
 #include "cuda_check.hpp"
+#include "tuning.hpp"
 
 namespace expanse::detail::cuda {
 
@@ -41,7 +42,7 @@ class PinnedStaging {
 
 /// Host memory pinned where it lies (cudaHostRegister) for as long as the object lives, so that
 /// a download goes straight into it at the bus's speed instead of through a staging ring. On the
-/// H100's host (805 MB, session 8 call 1): pinning 27-29 ms, releasing 18 ms, the copy 15.3 ms
+/// H100's host (805 MB at 4096^2): pinning 27-29 ms, releasing 18 ms, the copy 15.3 ms
 /// against 35-37 ms through the ring. A range the driver refuses is left unpinned (pinned()
 /// says so) and the caller uses the ring.
 class PinnedInPlace {
@@ -81,11 +82,11 @@ class StageTimer {
 };
 
 /// When the work of each stream reached named points, measured from the first mark: which of
-/// the streams that run side by side ends a stage. Off unless EXPANSE_CUDA_STAR_TIMELINE=1 (a
+/// the streams that run side by side ends a stage. Off unless `on` (Tuning::star_timeline, a
 /// diagnostic: it prints to stderr).
 class StreamTimeline {
  public:
-  StreamTimeline();
+  explicit StreamTimeline(bool on);
   ~StreamTimeline();
   StreamTimeline(const StreamTimeline&) = delete;
   StreamTimeline& operator=(const StreamTimeline&) = delete;

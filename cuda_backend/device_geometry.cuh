@@ -7,13 +7,12 @@
 #include <cstring>
 
 #include "device_compat.cuh"
-#include "grid/quantile_guide.hpp"
+#include "quantile_guide.hpp"
 #include "predicates/exact_arith.hpp"
 
 namespace expanse::detail::cuda {
 
 namespace ex = ::expanse::detail::exact;
-inline constexpr int kUncertain = ex::uncertain;
 
 EXPANSE_DEVICE_FORCE bool safe_point(double2 p) {
   return ex::in_safe_range(p.x) && ex::in_safe_range(p.y);
@@ -23,12 +22,12 @@ EXPANSE_DEVICE_FORCE bool safe_point(double2 p) {
 /// needs coordinates in the safe range; outside it the answer is `uncertain`.
 EXPANSE_DEVICE int orient(double2 a, double2 b, double2 c) {
   int s = ex::orient2d_filter(a.x, a.y, b.x, b.y, c.x, c.y);
-  if (s != kUncertain) return s;
+  if (s != ex::uncertain) return s;
   s = ex::orient2d_certified(a.x, a.y, b.x, b.y, c.x, c.y);
-  if (s != kUncertain) return s;
+  if (s != ex::uncertain) return s;
   if (safe_point(a) && safe_point(b) && safe_point(c))
     return ex::orient2d_expansion(a.x, a.y, b.x, b.y, c.x, c.y);
-  return kUncertain;
+  return ex::uncertain;
 }
 
 EXPANSE_DEVICE_FORCE bool lex_less(double2 p, double2 q) {
@@ -58,7 +57,7 @@ EXPANSE_DEVICE_FORCE int cocircular_perturbed_by(double2 a, double2 b, double2 c
       o = orient(a, d, c);
     else
       o = orient(d, b, c);
-    if (o == kUncertain) return kUncertain;
+    if (o == ex::uncertain) return ex::uncertain;
     if (o != 0) return o;
   }
   return -1;
@@ -84,13 +83,13 @@ EXPANSE_DEVICE_FORCE int orient_on_lattice(double2 a, double2 b, double2 c) {
 /// incircle that neither the filter, the certificate nor that decides is deferred.
 EXPANSE_DEVICE int incircle_perturbed(double2 a, double2 b, double2 c, double2 d) {
   int s = ex::incircle_filter(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s == kUncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
-  if (s == kUncertain) s = ex::incircle_exact_differences_grown(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == ex::uncertain) s = ex::incircle_certified(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
+  if (s == ex::uncertain) s = ex::incircle_exact_differences_grown(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y);
   if (s != 0) return s;  // a sign, or uncertain
   return cocircular_perturbed(a, b, c, d);
 }
 
-/// A quantile axis' guide (grid/quantile_guide.hpp): its key and its table, first[k] the
+/// A quantile axis' guide (quantile_guide.hpp): its key and its table, first[k] the
 /// number of column boundaries in bins below k. None (first == nullptr): the full binary search.
 /// H100, 4096^2 uniform: cells looked up by 12-step binary searches cost the star kernel about a
 /// third of its time.
@@ -280,7 +279,7 @@ struct GridView {
 /// compiler is told has them, so that it drops the uniform cells' arithmetic and the unguided
 /// binary search; `guided_tails` the same with TailColumns, whose scans across only its walks
 /// compile (in every walk they cost inputs that have no such columns 1.5 ms at 4096^2: H100,
-/// gaussian, session 31 call 3). The caller must know which kind the grid is.
+/// gaussian). The caller must know which kind the grid is.
 enum class GridKind { any, uniform, guided, guided_tails };
 
 template <GridKind Kind>
@@ -310,7 +309,7 @@ EXPANSE_DEVICE_FORCE GridKind kind_of(const GridView& g) {
 
 /// Exact comparison of |s - p|^2 with |s - q|^2: -1, 0, +1, or uncertain.
 EXPANSE_DEVICE int compare_distance(double2 s, double2 p, double2 q) {
-  if (!(safe_point(s) && safe_point(p) && safe_point(q))) return kUncertain;
+  if (!(safe_point(s) && safe_point(p) && safe_point(q))) return ex::uncertain;
   const auto pdx = ex::exact_difference(p.x, s.x), pdy = ex::exact_difference(p.y, s.y);
   const auto qdx = ex::exact_difference(q.x, s.x), qdy = ex::exact_difference(q.y, s.y);
   const auto dp = pdx * pdx + pdy * pdy;
@@ -374,7 +373,7 @@ EXPANSE_DEVICE int nearest_site(const GridView& g, int self, double2 s, bool* ok
           take = false;
         } else {
           const int cmp = compare_distance(s, p, best_p);
-          if (cmp == kUncertain) {
+          if (cmp == ex::uncertain) {
             *ok = false;
             return;
           }
@@ -597,12 +596,12 @@ EXPANSE_DEVICE int find_apex(const GridView& g, int ia, double2 a, int ib, doubl
         const double2 p = g.points[j];
         const int o = orient(a, b, p);
         ++*predicates;
-        if (o == kUncertain) { failed = true; return; }
+        if (o == ex::uncertain) { failed = true; return; }
         if (o <= 0) continue;
         if (best >= 0) {
           const int in = incircle_perturbed(a, b, bp, p);
           ++*predicates;
-          if (in == kUncertain) { failed = true; return; }
+          if (in == ex::uncertain) { failed = true; return; }
           if (in <= 0) continue;
         }
         best = id;

@@ -12,7 +12,7 @@
 //     -> download the sites, their input indices, the representatives and the hull's site ids
 //     -> grow_per_site on the sites already on the device
 //
-// On the host this took 125-170 ms at 4096^2 on 16 threads (session 5, the H100's host): the
+// On the host this took 125-170 ms at 4096^2 on 16 threads (the H100's host): the
 // sorting and merging is the device's to do, and the host only validates and finds the hull.
 // Equal points have equal codes, so merging looks only through runs of equal codes (30 bits a
 // coordinate: distinct points share one only when closer than 2^-30 of the box). Where a run is
@@ -34,6 +34,7 @@
 #include <ranges>
 
 #include "cuda_internal.hpp"
+#include "support/timing.hpp"
 #include "input/morton.hpp"
 #include "input/parallel.hpp"
 #include "star_grid.hpp"
@@ -45,7 +46,7 @@ namespace {
 /// found through hash tables, not by looking back through the run. Kuzmin's centre at 4096^2 has
 /// runs of up to 164 sites (21% of its sites in runs of 65 to 164), where a look back costs less
 /// than the tables' four passes and their atomics (a limit of 64 sent kuzmin through the tables:
-/// 0.83 ms for the merge, H100, session 35 call 1).
+/// 0.83 ms for the merge, H100).
 constexpr int kLookBackLimit = 256;
 /// Past this many points with one Morton code the run is "unordered": the device's preparation
 /// leaves it in input order, and the walks order such inputs' cells by x (StarGrid's
@@ -111,7 +112,7 @@ __device__ __forceinline__ unsigned int bits_between(int lo, int hi) {
 /// with its own only where their tags agree. Points read whole by every lane were bound by the
 /// first-level cache's bandwidth (16 bytes to each of 32 lanes a step, as much as 32 lanes
 /// reading 16 bytes each): kuzmin 4096^2's survey took 0.53 ms with a look back a lane, 0.51
-/// with one point a step for the warp, 0.34 with the tags (H100, ncu, session 35 calls 2-5;
+/// with one point a step for the warp, 0.34 with the tags (H100, ncu;
 /// 22.6 M steps).
 ///
 /// With `survey` (first and head null) it only learns what the runs hold, into *survey's bits:
@@ -190,7 +191,7 @@ __global__ void first_equal_kernel(const double2* __restrict__ sorted, const std
 /// The heads become the sites, in Morton order: site slot[p] is the point at position p. Reads
 /// and writes in order only: where points repeat, representative_kernel maps every input index
 /// to its group's first (a scatter by input index, which cost 2.6 ms at 4096^2 on the H100 with
-/// the input-to-site map beside it: session 14 call 2).
+/// the input-to-site map beside it).
 __global__ void compact_kernel(const double2* sorted, const int* sorted_input, const int* head, const int* slot, int n,
                                double2* site_points, int* site_input) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
@@ -217,7 +218,7 @@ __device__ __forceinline__ std::uint64_t morton(double2 p, const Quantiser& q) {
 /// in any order), and equal points have equal keys. A cluster finer than the quantisation
 /// (kuzmin's centre: thousands of sites a code at 4096^2) is then in sixteen runs a code, each
 /// in input order, where it was in one: the merge's hash tables for each run took kuzmin 1.41 ->
-/// 0.86 ms (H100, session 28 call 6), in the same 8 radix passes as the 60 bits alone. (Its
+/// 0.86 ms (H100), in the same 8 radix passes as the 60 bits alone. (Its
 /// walks want more order than that: CellBuckets orders such sites within their cells.)
 constexpr int kRefineBits = 2;
 static_assert(2 * Quantiser::bits + 2 * kRefineBits <= 64);
@@ -313,12 +314,11 @@ __global__ void gather_scaled_codes_kernel(const int* sorted_ids, const double2*
 /// A dense cluster in a wide box shares keys wholesale (kuzmin 20,000: most of the sample), an
 /// even spread almost never (uniform 4096^2: two of 4096 with odds of about 1 in 500). Only a
 /// forecast: the device checks the runs after the sort, and a long one still takes the full sort.
-/// EXPANSE_CUDA_MORTON_SORT=full or =short decides instead (short: no forecast, the check stays).
-bool short_sort_forecast(std::span<const Point2> points, const InputScan& scan, const Quantiser& q) {
-  if (const char* env = std::getenv("EXPANSE_CUDA_MORTON_SORT")) {
-    if (std::strcmp(env, "full") == 0) return false;
-    if (std::strcmp(env, "short") == 0) return true;
-  }
+/// Tuning::morton_sort full or short_keys decides instead (short: no forecast, the check stays).
+bool short_sort_forecast(std::span<const Point2> points, const InputScan& scan, const Quantiser& q,
+                         Tuning::MortonSort sort) {
+  if (sort == Tuning::MortonSort::full) return false;
+  if (sort == Tuning::MortonSort::short_keys) return true;
   const std::size_t n = points.size();
   const std::size_t samples = std::min<std::size_t>(n, kShortKeySamples);
   if (samples == 0) return true;
@@ -369,7 +369,7 @@ __global__ void run_length_kernel(const std::uint64_t* codes, const int* start, 
 /// they lie in one run, and each run has a table of its own: twice its length, from slot twice
 /// its start (a table of 2n slots in all, at most half full). A warp's positions lie in one or
 /// a few runs, so its probes stay in a few kilobytes, where one table over all points had sent
-/// every probe to a random line of 128 MB (kuzmin 4096^2: 3.2 ms for the merge, H100, session 16).
+/// every probe to a random line of 128 MB (kuzmin 4096^2: 3.2 ms for the merge, H100).
 /// Every position p enters its run's table (linear probing) under its point. A slot holds
 /// positions of one point only and ends at the smallest of them (atomicMin among equal points):
 /// the first in the stable sort, the smallest input index.
@@ -457,7 +457,6 @@ __global__ void hull_sites_kernel(const int* hull_input, int h, const double2* r
 }  // namespace
 
 bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGrowResult& result) {
-  using clock = std::chrono::steady_clock;
   const cudaStream_t stream = ctx.stream;
   const std::size_t n = input.points.size();
   if (n >= (std::size_t{1} << 30)) return false;  // the host's path refuses it, with the error
@@ -478,7 +477,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   });
 
   StageTimer timer(stream);
-  const auto host_start = clock::now();
+  const auto host_start = Clock::now();
   std::size_t m = 0;
   DeviceArray<double2> d_site_points(n, stream);
   DeviceArray<int> d_site_input(n, stream), d_representative(n, stream);
@@ -488,9 +487,10 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   bool hashed = false;                           // runs past kLookBackLimit: the hash tables
   // Before the device's first stage: the forecast is host work, and timed inside a stage it
   // would count as the device's.
-  const bool short_forecast = short_sort_forecast(input.points, input.scan, Quantiser(bounds));
+  const bool short_forecast = short_sort_forecast(input.points, input.scan, Quantiser(bounds),
+                                                       tuning_from_environment().morton_sort);
   std::size_t h = 0;
-  clock::time_point host_uploaded;
+  Clock::time_point host_uploaded;
   double hull_wait_ms = 0.0;
   {
     DeviceArray<double2> d_raw(n, stream), d_sorted(n, stream);
@@ -498,7 +498,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     static_assert(sizeof(Point2) == sizeof(double2));
     ctx.staging->upload(d_raw.get(), input.points.data(), n * sizeof(double2), stream);
     timer.end();
-    host_uploaded = clock::now();
+    host_uploaded = Clock::now();
 
     DeviceArray<std::uint64_t> d_codes(n, stream), d_codes_sorted(n, stream);
     DeviceArray<int> d_ids(n, stream), d_sorted_ids(n, stream);
@@ -565,8 +565,8 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
 
     timer.begin("merge duplicates");
     // First a survey of the runs: whether any point repeats (where none does, no groups and no
-    // scan: H100, 4096^2, the merge 0.17 -> 0.07 ms on uniform, gaussian and the lattice, session
-    // 28 call 1), whether a run is unordered, whether one is too long to look back through.
+    // scan: H100, 4096^2, the merge 0.17 -> 0.07 ms on uniform, gaussian and the lattice),
+    // whether a run is unordered, whether one is too long to look back through.
     EXPANSE_CUDA(cudaMemsetAsync(d_flags.get(), 0, 2 * sizeof(unsigned int), stream));
     first_equal_kernel<<<blocks_for(n), kThreads, 0, stream>>>(d_sorted.get(), d_codes_sorted.get(),
                                                                static_cast<int>(n), nullptr, nullptr, d_flags.get());
@@ -622,9 +622,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
     }
     timer.end();
     // The hull, which the host has been finding meanwhile, in site ids.
-    const auto host_hull_wait = clock::now();
+    const auto host_hull_wait = Clock::now();
     const std::vector<std::int32_t>* hull_input = input.hull();
-    hull_wait_ms = std::chrono::duration<double, std::milli>(clock::now() - host_hull_wait).count();
+    hull_wait_ms = ms_since(host_hull_wait);
     if (!hull_input) return false;  // collinear: the host's path handles it
     h = hull_input->size();
     DeviceArray<int> d_hull_input(h, stream);
@@ -650,7 +650,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
       EXPANSE_CUDA(cudaStreamSynchronize(stream));
     } else {
       // No point repeats: the sorted points and their input indices are the sites already (the
-      // compaction's copy took 0.27 ms at 4096^2 on the H100; session 19 call 8).
+      // compaction's copy took 0.27 ms at 4096^2 on the H100).
       d_site_points.swap(d_sorted);
       d_site_input.swap(d_sorted_ids);
     }
@@ -659,9 +659,9 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   // The host's copy of what it prepared: the seam stage and the output need the sites, the
   // input indices and the representatives (grow_per_site only their number); the hull in site
   // ids. With a side stream, through its own pinned ring on another host thread while the stars
-  // grow (EXPANSE_CUDA_SITES_COPY=before: first, on the main stream). Copied straight into
-  // pageable memory on a side stream instead, the copies held up the star kernel's launch
-  // (4096^2 uniform host to host 230 -> 303 ms, H100, session 6 call 3).
+  // grow (without one: first, on the main stream). Copied straight into pageable memory on a
+  // side stream instead, the copies held up the star kernel's launch (4096^2 uniform host to
+  // host 230 -> 303 ms, H100).
   sites.scale_exponent = input.scan.scale_exponent;
   sites.integer_coordinates = input.scan.integer_coordinates;
   sites.bounds = bounds;
@@ -669,11 +669,10 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   resize_for_parallel_write(sites.input_index, m);
   Hull& hull = result.hull;
   hull.sites.resize(h);
-  const char* copy_env = std::getenv("EXPANSE_CUDA_SITES_COPY");
-  const bool alongside = ctx.side_stream && !(copy_env && std::strcmp(copy_env, "before") == 0);
+  const bool alongside = ctx.side_stream != nullptr;
   double copies_ms = 0.0;
   const auto copy_to_host = [&, h, m, n](PinnedStaging& staging, cudaStream_t on) {
-    const auto start = clock::now();
+    const auto start = Clock::now();
     EXPANSE_CUDA(cudaSetDevice(ctx.device));
     staging.download(hull.sites.data(), d_hull_sites->get(), h * sizeof(int), on);
     staging.download(sites.points.data(), d_site_points.get(), m * sizeof(double2), on);
@@ -686,19 +685,19 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
                 hull.predecessor.begin() + static_cast<std::ptrdiff_t>(end), -1);
     });
     for (std::size_t k = 0; k < h; ++k) hull.predecessor[hull.sites[k]] = hull.sites[(k + h - 1) % h];
-    copies_ms = std::chrono::duration<double, std::milli>(clock::now() - start).count();
+    copies_ms = ms_since(start);
   };
   std::future<void> copies;
   if (alongside)
     copies = std::async(std::launch::async, copy_to_host, std::ref(*ctx.side_staging), ctx.side_stream);
   else
     copy_to_host(*ctx.staging, stream);
-  const auto host_prepared = clock::now();
+  const auto host_prepared = Clock::now();
 
   std::vector<StageTime> prepare_stages = timer.collect();
   const SitesOnDevice on_device{d_site_points.get(), d_hull_sites->get(), long_runs};
   grow_per_site(ctx, GrowInput{sites, hull, input.layout, input.recycled}, result.grown, &on_device);
-  const auto host_grown = clock::now();
+  const auto host_grown = Clock::now();
   if (copies.valid()) copies.get();
   auto& stages = result.grown.device_stages;
   stages.insert(stages.begin(), prepare_stages.begin(), prepare_stages.end());
@@ -710,7 +709,7 @@ bool grow_per_site_from_input(Context& ctx, const InputGrowInput& input, InputGr
   host.push_back({alongside ? "cuda copy of the sites to the host (while the stars grow)"
                             : "cuda copy of the sites to the host (before the growth)",
                   copies_ms});
-  if (alongside) host.push_back({"cuda wait for the sites' copy after the growth", ms(host_grown, clock::now())});
+  if (alongside) host.push_back({"cuda wait for the sites' copy after the growth", ms(host_grown, Clock::now())});
   last_run_counters().short_morton_sort = short_sorted;
   last_run_counters().merge_hash_tables = hashed;
   last_run_counters().bytes_to_device = n * sizeof(double2) + h * sizeof(int);

@@ -53,19 +53,9 @@ EXPANSE_DEVICE_FORCE int ends_first_block(int b, int blocks) { return (b & 1) ? 
 /// is searched for three times, once from each vertex. Both ways give the same star: the posts
 /// come from exact stars, and a Delaunay triangle is one triangle whoever finds it.
 ///
-/// Room for 5 posts in a 64-byte row; more are dropped, and their steps searched for. Tried and
-/// not kept (H100, session 15 call 4): four phases, each reading what the earlier ones posted
-/// (4096^2 uniform 46.8 ms GPU-only against two phases' 44.0-44.4, grid 33.9 against
-/// 27.5-28.1: a later phase's warps wait for their few searching lanes, and every phase's
-/// kernel has its tail). Their general inboxes (128-byte rows for 10 posts, placed by
-/// arithmetic on the phase) made two phases slower too: 4096^2 uniform 44.0-44.4 ms against
-/// this layout's 41.9, grid 27.5-28.1 against 25.0 (call 3). Nor did more phases win once the
-/// later phases' searching sites were listed (inbox_star_kernel; session 33 call 2, branch
-/// s33-phases): site i in phase i mod P, GPU-only at 4096^2 uniform 31.4 ms with two phases
-/// against 32.6 with three and 34.0 with four. Counted on the CPU, three phases cut the
-/// lock-step work 14%, but the middle phase's walks (searching for 4 triangles in 9 from an
-/// inbox neighbour) cost 1.4x a unit what the count says, and each phase adds its recording
-/// kernel and its tail.
+/// Room for 5 posts in a 64-byte row; more are dropped, and their steps searched for. Two
+/// phases, not more: a later phase's warps wait for their few searching lanes, and every phase
+/// adds its recording kernel and its tail (docs/benchmarks.md, "tried and not kept").
 inline constexpr int kInboxTriples = 5;
 inline constexpr int kInboxWords = 16;  // 5 triples, padded to 64 bytes
 

@@ -6,13 +6,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 
 #include "device_geometry.cuh"
 #include "grid/quantile_tails.hpp"
 #include "input/site_set.hpp"
 #include "predicates/exact_lattice.hpp"
+#include "tuning.hpp"
 
 namespace expanse::detail::cuda {
 
@@ -46,18 +45,12 @@ inline GridShape make_grid_shape(const Box& box, std::size_t n, double sites_per
 /// Uniform cells hold this many times the layout's sites_per_bucket when the coordinates are not
 /// integers; quantile cells, and uniform cells of integer inputs, hold sites_per_bucket. A scan
 /// costs its rows as much as its candidates, and since the first pass walks light (no row cuts,
-/// no exact path) coarser uniform cells pay. H100, GPU-only, uniform input, sites per cell 2 /
-/// 3 / 3.5 / 4, two rounds alternated (session 16 call 10): 512^2 3.15-3.04 / 2.93-2.95 /
-/// 2.88-2.87 / 2.91-2.90 ms; 1024^2 6.22-6.10 / 5.72-5.62 / 5.44-5.45 / 5.49-5.31; 2048^2
-/// 20.7 / 19.4-19.5 / 18.8 / 18.5-18.7; 4096^2 43.0-41.9 / 40.6 / 40.8 / 40.9-41.0. The integer
-/// lattice lost at 2.5 to 3.5 (4096^2 25.3-25.8 against 24.0-25.0 ms) and won only at 4, where
-/// its cells are 2 x 2 of its points; kuzmin, on quantile cells, lost at 3 (call 9: 77.3
-/// against 75.4-75.9 ms) and gaussian did not move. Session 8 (call 13), before the light
-/// pass, had found two a cell best. Once the candidate loop got cheaper (session 32, call 6,
-/// b49d802, GPU-only, sites per cell 3.5 / 3.06 / 2.84 / 2.625, two rounds alternated at
-/// 4096^2): 4096^2 31.54-31.65 / 31.33-31.40 / 31.28-31.30 / 31.21-31.23 ms; 2048^2 9.55 /
-/// 9.51 / - / 9.48; 1024^2 3.35 / 3.27 / - / 3.31; 512^2 1.75 / 1.65 / - / 1.72. So 2.625.
-/// Finer still (session 33 call 1, 2.4 and 2.25 a cell): 31.23 and 31.29 ms against 31.24-31.28.
+/// no exact path) coarser uniform cells pay. H100, GPU-only, uniform input, commit b49d802, two
+/// rounds alternated at sites per cell 3.5 / 3.06 / 2.84 / 2.625: 4096^2 31.54-31.65 /
+/// 31.33-31.40 / 31.28-31.30 / 31.21-31.23 ms; 2048^2 9.55 / 9.51 / - / 9.48; 1024^2 3.35 /
+/// 3.27 / - / 3.31; 512^2 1.75 / 1.65 / - / 1.72. Finer still (2.4 and 2.25 a cell): 31.23 and
+/// 31.29 ms against 31.24-31.28. The integer lattice lost at 2.5 to 3.5 (4096^2 25.3-25.8
+/// against 24.0-25.0 ms) and keeps sites_per_bucket, its cells 2 x 2 of its points.
 inline constexpr double kUniformCellsScale = 1.3125;
 
 /// The shape of uniform cells for these sites (kUniformCellsScale).
@@ -80,12 +73,6 @@ inline GridShape quantile_shape(const GridShape& uniform, const Box& box) {
   q.cell_w = w > 0 ? w / side : 1.0;
   q.cell_h = h > 0 ? h / side : 1.0;
   return q;
-}
-
-/// EXPANSE_CUDA_QUANTILE_SHAPE=box keeps quantile cells in the uniform shape (for comparisons).
-inline bool square_quantile_off() {
-  const char* env = std::getenv("EXPANSE_CUDA_QUANTILE_SHAPE");
-  return env && std::strcmp(env, "box") == 0;
 }
 
 /// Sets g's shape: its origin, scales and cells per axis.
@@ -114,28 +101,17 @@ inline GridView make_grid_view(const GridShape& shape, const Box& box) {
 /// (reach and offset 1) but on uniform cells up to 2^20 sites that are not integers, where a box
 /// 3/4 as wide, half as far left of the edge, pays. Its fewer candidates (uniform 4096^2: 79.9
 /// -> 74.5 predicates a site) cost more second boxes, and where the GPU is full that loses; where
-/// a few waves of blocks and their slowest walks set the time, it wins. H100 and H200, GPU-only, two rounds
-/// alternated (session 19 calls 1-3): uniform 512^2 2.86 -> 2.65 ms (H100), 2.76 -> 2.61 (H200),
-/// 1024^2 5.21 / 5.23 -> 4.97 / 4.96 (H200), but 4096^2 40.3 -> 43.9 (H100); on quantile cells
-/// gaussian 1024^2 6.45 -> 7.35 (H200), kuzmin and gaussian 4096^2 slower too; the integer
-/// lattice 512^2 0.93 -> 1.12 ms, 1024^2 2.20 -> 2.40 (H100, call 4). Larger boxes
-/// (reach up to 2, offset up to 1.5) lost everywhere (call 2). EXPANSE_CUDA_FIRST_BOX=reach,offset
-/// sets both (for comparisons).
+/// a few waves of blocks and their slowest walks set the time, it wins. GPU-only, two rounds
+/// alternated: uniform 512^2 2.86 -> 2.65 ms (H100), 2.76 -> 2.61 (H200), 1024^2 5.21 / 5.23 ->
+/// 4.97 / 4.96 (H200), but 4096^2 40.3 -> 43.9 (H100); on quantile cells gaussian 1024^2 6.45 ->
+/// 7.35 (H200), kuzmin and gaussian 4096^2 slower too; the integer lattice 512^2 0.93 -> 1.12 ms,
+/// 1024^2 2.20 -> 2.40 (H100). Larger boxes (reach up to 2, offset up to 1.5) lost everywhere.
 struct FirstBoxShape {
   double reach = 1.0, offset = 1.0;
 };
 inline FirstBoxShape first_box_shape(bool uniform_cells, std::size_t sites, bool integer_coordinates) {
-  FirstBoxShape shape;
-  if (uniform_cells && !integer_coordinates && sites <= (std::size_t{1} << 20)) shape = {0.75, 0.5};
-  if (const char* env = std::getenv("EXPANSE_CUDA_FIRST_BOX")) {
-    char* end = nullptr;
-    const double reach = std::strtod(env, &end);
-    if (end != env && *end == ',') {
-      const double offset = std::strtod(end + 1, nullptr);
-      if (reach > 0.0 && offset >= 0.0) shape = {reach, offset};
-    }
-  }
-  return shape;
+  if (uniform_cells && !integer_coordinates && sites <= (std::size_t{1} << 20)) return {0.75, 0.5};
+  return {};
 }
 inline void apply_first_box(GridView& g, bool uniform_cells, const SiteSet& sites) {
   const FirstBoxShape shape = first_box_shape(uniform_cells, sites.points.size(), sites.integer_coordinates);
@@ -164,8 +140,8 @@ EXPANSE_HOST_DEVICE int quantile_sample_site(int i, int n, int samples) {
 /// Uniform cells or quantile cells. Quantile cells keep a cell's share of the sites even where
 /// they cluster, but every cell lookup is a search of the boundaries; uniform cells are looked
 /// up by a multiplication (H100, star kernel at 4096^2: uniform input 66.7 ms against 78.9 with
-/// the guided search, lattice 181 against 245; session 7 call 5). So the sample decides: a kEvennessBins^2 histogram over the sites' box, and uniform
-/// cells where no bin holds more than twice the mean (a uniform sample of 2^15 or more sites
+/// the guided search, lattice 181 against 245). So the sample decides: a kEvennessBins^2
+/// histogram over the sites' box, and uniform cells where no bin holds more than twice the mean (a uniform sample of 2^15 or more sites
 /// stays far below: 32 per bin at least, the largest of 1024 Poisson bins about 1.5x the mean);
 /// clusters and long tails (gaussian, kuzmin) exceed it many times over.
 inline constexpr int kEvennessBins = 32;
@@ -195,19 +171,12 @@ inline bool evenly_spread(unsigned max_count, int samples) {
   return static_cast<double>(max_count) <= 2.0 * samples / (kEvennessBins * kEvennessBins);
 }
 
-/// EXPANSE_CUDA_TAILS=0: quantile cells' boundaries at plain quantiles, whatever the tails (for
-/// comparisons); =share,factor: tails weighed so (grid/quantile_tails.hpp).
-inline TailWeighing tail_weighing() { return parse_tail_weighing(std::getenv("EXPANSE_CUDA_TAILS")); }
-
 /// Whether quantile cells copy their outer columns (TailColumns in device_geometry.cuh): where
-/// the x-axis' tails are heavy (quantile_tails weighs them). A gaussian's are not, and on the
-/// H100 its scans across cost it 1.3 ms at 4096^2 (session 31 call 3), though counted on the CPU
-/// they saved it 2% of its lock-step work. EXPANSE_CUDA_TAIL_COLUMNS=0 turns the copy off, =1 on
-/// for any quantile cells (both for comparisons).
-inline bool tail_columns_wanted(bool heavy_x_tails) {
-  const char* env = std::getenv("EXPANSE_CUDA_TAIL_COLUMNS");
-  if (env && std::strcmp(env, "0") == 0) return false;
-  return heavy_x_tails || (env && std::strcmp(env, "1") == 0);
+/// the x-axis' tails are heavy (quantile_tails weighs them), unless `forced`. A gaussian's are
+/// not, and on the H100 its scans across cost it 1.3 ms at 4096^2, though counted on the CPU
+/// they saved it 2% of its lock-step work.
+inline bool tail_columns_wanted(bool heavy_x_tails, Forced forced) {
+  return forced == Forced::automatic ? heavy_x_tails : forced == Forced::on;
 }
 
 /// Whether an axis of `cells` columns gets a guide: with fewer than 8 the full search is as short.

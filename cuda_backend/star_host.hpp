@@ -51,14 +51,14 @@ struct StarWorkTotals {
 class HostStarLayout {
  public:
   /// Buckets the sites exactly as grow_per_site does (quantile boundaries from the same hashed
-  /// sample, stable sort by cell), ready to walk.
-  HostStarLayout(const SiteSet& sites, const Hull& hull, double sites_per_bucket, bool quantile) {
+  /// sample, stable sort by cell), ready to walk. `tuning`: the knobs that shape the grid (tails,
+  /// tail_columns).
+  HostStarLayout(const SiteSet& sites, const Hull& hull, double sites_per_bucket, bool quantile,
+                 const Tuning& tuning = {}) {
     const std::size_t n = sites.points.size();
     const GridShape finest = make_grid_shape(sites.bounds, n, sites_per_bucket);
-    const GridShape shape = !quantile               ? uniform_cells_shape(sites.bounds, n, sites_per_bucket,
-                                                                          sites.integer_coordinates)
-                            : square_quantile_off() ? finest
-                                                    : quantile_shape(finest, sites.bounds);
+    const GridShape shape = !quantile ? uniform_cells_shape(sites.bounds, n, sites_per_bucket, sites.integer_coordinates)
+                                      : quantile_shape(finest, sites.bounds);
     grid_ = make_grid_view(shape, sites.bounds);
     exact_lattice_ = exact_lattice_arithmetic(sites);
     apply_first_box(grid_, !quantile, sites);
@@ -75,7 +75,7 @@ class HostStarLayout {
       std::sort(ys.begin(), ys.end());
       xb_.assign(shape.gx + 1, 0.0);
       yb_.assign(shape.gy + 1, 0.0);
-      const TailWeighing weighing = tail_weighing();
+      const TailWeighing weighing = tuning.tails;
       const QuantileTails x_tails = quantile_tails(xs.data(), samples, weighing);
       const QuantileTails y_tails = quantile_tails(ys.data(), samples, weighing);
       heavy_x_tails = x_tails.tail > 0;
@@ -109,14 +109,14 @@ class HostStarLayout {
     for (std::size_t t = 0; t < h; ++t) pred_[rank[hull.sites[t]]] = rank[hull.sites[t == 0 ? h - 1 : t - 1]];
     grid_.points = points_.data();
     grid_.cell_start = cell_start_.data();
-    if (quantile && tail_columns_wanted(heavy_x_tails)) use_tail_columns(true);
+    if (quantile && tail_columns_wanted(heavy_x_tails, tuning.tail_columns)) use_tail_columns(true);
   }
 
   /// With `on`, the walks scan tall boxes in the grid's outer columns a column at a time
   /// (TailColumns), copied here as build_tail_columns (star_kernels.cu) copies them: the outer
   /// columns' cells column after column, each cell's sites in the grid's order. On by default
   /// where the kernels take them: quantile cells whose x-tails are heavy (any quantile cells with
-  /// EXPANSE_CUDA_TAIL_COLUMNS=1).
+  /// Tuning::tail_columns forced on).
   void use_tail_columns(bool on) {
     grid_.tail = {};
     const int width = tail_columns_width(grid_.gx), gx = grid_.gx, gy = grid_.gy;
@@ -161,7 +161,7 @@ class HostStarLayout {
     grid_.strips = {strip_keys_.data(), strip_ids_.data(), strip_length_.data(), capacity};
   }
 
-  /// Walks every star as the kernel's threads would (budget as EXPANSE_CUDA_BUDGET; 0: the
+  /// Walks every star as the kernel's threads would (budget as Tuning::budget; 0: the
   /// kernel's default for the search), spread over
   /// `threads` host threads; the result does not depend on their number.
   /// With `two_phases` (boxes only), the even sites are walked first and post their triangles

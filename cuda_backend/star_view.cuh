@@ -23,10 +23,10 @@ EXPANSE_DEVICE_FORCE RowQuad load_quad(const int* row) {
 /// interior site's) lies in its row's first 32-byte sector, and is loaded whole into e[], in
 /// 16-byte words where all four are the star's; any other star is read from its row, an entry
 /// at a time, as star_at reads it. Read an entry at a time, each entry was a sector of its own
-/// across a warp (ncu, 4096^2 uniform, session 23 calls 1-2: 5.3 of each sector's 32 bytes used,
+/// across a warp (ncu, 4096^2 uniform, H100: 5.3 of each sector's 32 bytes used,
 /// 238 M sectors for the triangles' kernel). Only the star's own words are loaded: those past
 /// its degree were never written (compute-sanitizer's initcheck), and padding them in the walks
-/// cost the star kernels 0.25-0.5 ms (session 23 call 4).
+/// cost the star kernels 0.25-0.5 ms.
 struct StarView {
   const int* star;
   std::uint32_t inf;

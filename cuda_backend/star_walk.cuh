@@ -84,8 +84,7 @@ EXPANSE_DEVICE StarWalk walk_star(const GridView& g, const int* pred, int i, int
 
 /// An odd site's inbox read once (StarInbox), its posts then looked up in registers: the
 /// words are loaded together, not one post after another as each step needs them (the recording
-/// kernel 1.60 -> 1.43 ms at 4096^2 uniform on an H200, session 22 calls 1-2; the rest of its time
-/// is traffic). Words past the posts are never read (they are not written either).
+/// kernel 1.60 -> 1.43 ms at 4096^2 uniform on an H200; the rest of its time is traffic). Words past the posts are never read (they are not written either).
 struct InboxPosts {
   int b[kInboxTriples], u[kInboxTriples], a[kInboxTriples];
   int count;
@@ -105,8 +104,7 @@ struct InboxPosts {
 
   /// As StarInbox::apex: the first post that names the step wins (unused slots hold -1, which
   /// names nothing). *then: the step after that one where the same post names it too (a post
-  /// (b, u, a) found at b gives u and then a), else -1. Half the look-ups; the kernel's time
-  /// did not move with them (1.66 ms at 4096^2 on the H100 before and after, session 22 call 5).
+  /// (b, u, a) found at b gives u and then a), else -1.
   EXPANSE_DEVICE_FORCE int apex(int v, bool counter_clockwise, int* then) const {
     int found = -1, next = -1;
 #if defined(__CUDACC__)

@@ -277,11 +277,7 @@ int main(int argc, char** argv) {
               false);
   unsetenv("EXPANSE_CUDA_TAIL_COLUMNS");
 
-  // Both searches (box scans are the default) and every register cap give valid stars.
-  setenv("EXPANSE_CUDA_SEARCH", "rings", 1);
-  grow_case(*backend, "ring search: uniform", generate_points("uniform", 300, 1), per_site, true, false);
-  grow_case(*backend, "ring search: grid", square_grid(24), per_site, true, true);
-  unsetenv("EXPANSE_CUDA_SEARCH");
+  // Every register cap gives valid stars.
   for (const char* blocks : {"6", "8"}) {
     setenv("EXPANSE_CUDA_BLOCKS_PER_SM", blocks, 1);
     grow_case(*backend, std::string("blocks per SM ") + blocks + ": clusters", generate_points("gaussian", 500, 2),
@@ -321,14 +317,12 @@ int main(int argc, char** argv) {
   // Two phases (StarInbox; the default above 2^18 sites): the odd sites' walks start from and
   // step through what the even sites posted, alone and with the first pass's hand-offs (a first
   // budget of 8 sends nearly every site to the warps); the stars that inboxes hold whole recorded
-  // first and the rest walked from a list (inbox_star_kernel), or every odd site walked.
+  // first and the rest walked from a list (inbox_star_kernel).
   setenv("EXPANSE_CUDA_PHASES", "2", 1);
   for (const char* first : {"", "8"}) {
-    for (const char* inbox_first : {"1", "0"}) {
+    {
       if (*first) setenv("EXPANSE_CUDA_FIRST_BUDGET", first, 1);
-      setenv("EXPANSE_CUDA_INBOX_FIRST", inbox_first, 1);
-      const std::string label = std::string("two phases") + (*first ? ", first-pass budget 8" : "") +
-                                (*inbox_first == '1' ? ", inboxes first" : ", every odd site walked") + ": ";
+      const std::string label = std::string("two phases") + (*first ? ", first-pass budget 8" : "") + ": ";
       grow_case(*backend, label + "uniform", generate_points("uniform", 1500, 3), per_site, true, false);
       grow_case(*backend, label + "kuzmin", generate_points("kuzmin", 1500, 7), per_site, true, false);
       grow_case(*backend, label + "grid", square_grid(24), per_site, true, true);
@@ -341,7 +335,6 @@ int main(int argc, char** argv) {
     }
   }
   unsetenv("EXPANSE_CUDA_FIRST_BUDGET");
-  unsetenv("EXPANSE_CUDA_INBOX_FIRST");
   unsetenv("EXPANSE_CUDA_PHASES");
 
   // The boundary strips (BoundaryStrips): at any size, so that the sanitizers' small cases take

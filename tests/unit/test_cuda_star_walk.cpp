@@ -461,9 +461,9 @@ TEST_CASE("CUDA star walk on the CPU: kuzmin's tails weighed make Delaunay stars
   const std::vector<Point2> points = test::points::kuzmin(100000, 7);
   const SiteSet sites = prepare_sites(points);
   const Hull hull = convex_hull(sites);
-  setenv("EXPANSE_CUDA_TAILS", "0", 1);
-  cuda::HostStarLayout plain(sites, hull, 2.0, true);
-  unsetenv("EXPANSE_CUDA_TAILS");
+  cuda::Tuning plain_quantiles;
+  plain_quantiles.tails = parse_tail_weighing("0");
+  cuda::HostStarLayout plain(sites, hull, 2.0, true, plain_quantiles);
   cuda::HostStarLayout weighed(sites, hull, 2.0, true);
   const cuda::StarWorkTotals by_plain = plain.walk_all(0, 2), by_weighed = weighed.walk_all(0, 2);
   INFO("work " << by_plain.work << " -> " << by_weighed.work << ", sites past 2^11 units " << by_plain.sites_over_pow2[0]

@@ -23,7 +23,7 @@
 // the counts of bins k and k + 1, with no margin for rounding needed. The host and CUDA evaluate
 // the same operations, so a table built on one and read on the other still agrees. (Vulkan's
 // quantile cells keep the full search: this guide in GLSL made its star shader slower, on
-// lavapipe and on NVIDIA's driver; cuda_backend/results/2026-11-25-h100-s13.)
+// lavapipe and on NVIDIA's driver, H100, 2026-11-25.)
 #include <cstdint>
 #include <cstring>
 #include <vector>
