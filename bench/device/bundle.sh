@@ -35,7 +35,18 @@ if [[ $mode == all ]]; then
     "$build/bench/expanse-bench-page-faults"
   )
 fi
-../shared/device/bundle.sh "${programs[@]}" >/dev/null
+# Each program and the shared libraries it needs that the GPU machine lacks (everything but the C
+# and C++ runtimes and the Vulkan and CUDA drivers' loaders).
+mkdir -p .devrun/lib
+for program in "${programs[@]}"; do
+  cp -f "$program" .devrun/
+  ldd "$program" | awk '/=> \//{print $3}' | while read -r lib; do
+    case "$(basename "$lib")" in
+      libc.so*|libm.so*|libstdc++.so*|libgcc_s.so*|ld-linux*|libpthread.so*|libdl.so*|librt.so*|libvulkan.so*|libcuda.so*) ;;
+      *) cp -fL "$lib" .devrun/lib/ ;;
+    esac
+  done
+done
 layer=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
 manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
 # The validation layer only where Vulkan runs (the conformance suite on Vulkan, the Vulkan tests).
