@@ -205,9 +205,6 @@ struct BoxWalk {
 #endif
   enum Phase : int { nearest, ccw, cw, done, deferred };
   static constexpr int kNone = 1 << 29;
-  /// What a box scan leaves the search with: the next box (or strip) to scan, the answer, or
-  /// nothing (no candidate anywhere: the walk defers).
-  enum class Planned { box, answer, nothing };
 
   const GridView g;
   const int* const pred;
@@ -647,24 +644,6 @@ struct BoxWalk {
 
   // ---- scan_box: the scan loop, a row segment at a time ----
 
-  // The next row segment of the target box once the last is done (set up as one unit of work);
-  // false: the box, or the strip's prefix, is scanned, or the budget is spent.
-  EXPANSE_DEVICE_FORCE bool next_row_segment() {
-    if (slot < slot_end) return true;
-    if (Strips && strip >= 0) return false;  // the strip's prefix is scanned
-    if (++work > budget) return false;
-    const bool in_rows = crosses_visited(y);  // before `part`: the scans across read it so too
-    if (part == 0 && in_rows) {
-      part = 1;
-    } else {
-      part = 0;
-      ++y;
-    }
-    if (y > last_line()) return false;
-    segment_of(y, part, &slot, &slot_end);
-    return true;
-  }
-
   // The thread's candidate loop for the nearest-neighbour search (and a lattice's apex searches):
   // each candidate judged whole. (A lattice keeps this loop: with the apex searches' loop its
   // 4096^2 stars took 16.35 ms against 15.87, H100.)
@@ -793,7 +772,19 @@ struct BoxWalk {
       }
 #endif
       if (!batched) {
-        if (!next_row_segment()) break;
+        if (slot >= slot_end) {  // the next row segment, set up as one unit of work
+          if (Strips && strip >= 0) break;  // the strip's prefix is scanned
+          if (++work > budget) break;
+          const bool in_rows = crosses_visited(y);  // before `part`: the scans across read it so too
+          if (part == 0 && in_rows) {
+            part = 1;
+          } else {
+            part = 0;
+            ++y;
+          }
+          if (y > last_line()) break;
+          segment_of(y, part, &slot, &slot_end);
+        }
         scan_row_segment();
       }
       if (work > budget || pending >= 0) break;
@@ -803,56 +794,33 @@ struct BoxWalk {
 
   // ---- the search loop: box after box, then the walk's next step ----
 
-  // The target box (or the strip) is scanned: the search is over where the best candidate's
-  // circle_region lies inside the cells visited; else the next box, grown (no candidate yet) or
-  // towards the region, or the strip that holds the region.
-  EXPANSE_DEVICE_FORCE Planned plan_next_box() {
-    bool found = false;
-    if (Strips && strip >= 0) {
-      strip = -1;
-      found = true;
-    } else {
-      visited = target;
-      if (best < 0) {
-        if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
-          reason = DeferReason::no_apex;
-          phase = deferred;
-          return Planned::nothing;
-        }
-        const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
-        target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
-                  min(visited.y1 + grow_y, whole.y1)};
-      } else {
-        // (A site the inbox gave its nearest neighbour has found it: no region.)
-        const CellBox region = given && !ExactLattice ? visited : region_of_best(&visited);
-        found = given || box_inside(region, visited);
-        given = false;
-        if constexpr (Strips) {
-          std::uint32_t end = 0;
-          if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
-            slot = 0;
-            slot_end = end;
-            big_scan = true;  // a better candidate narrows the prefix (take, then `narrow`)
-            return Planned::box;
-          }
-        }
-        // Towards the region, by at most half the visited box per side: nearer candidates
-        // come first and shrink the region (a far region is often a poor early candidate's).
-        const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
-        target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
-                  min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
-      }
-    }
+  // No candidate in the boxes scanned: the next box around them, twice as wide and tall.
+  EXPANSE_DEVICE_FORCE void grow_box() {
+    const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
+    target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
+              min(visited.y1 + grow_y, whole.y1)};
+  }
+
+  // The best candidate's circle_region reaches past the boxes scanned: the next box towards it,
+  // by at most half the visited box per side: nearer candidates come first and shrink the
+  // region (a far region is often a poor early candidate's).
+  EXPANSE_DEVICE_FORCE void box_towards(const CellBox& region) {
+    const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
+    target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
+              min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
+  }
+
+  // The scan of the next box set up (its first line, no segment yet).
+  EXPANSE_DEVICE_FORCE void begin_box() {
     begin_target();
     part = 1;
     slot = slot_end = 0;
     big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
-    return found ? Planned::answer : Planned::box;
   }
 
   // The search is over: best is the answer. The walk's next step, as in walk_star, and the
-  // steps after it that the inbox gives (StarInbox). False: the walk is over (done or deferred).
-  EXPANSE_DEVICE_FORCE bool take_step() {
+  // steps after it that the inbox gives (StarInbox).
+  EXPANSE_DEVICE_FORCE void take_step() {
     for (int c = best;;) {
       if (phase == nearest) {
         v0 = c;
@@ -890,7 +858,6 @@ struct BoxWalk {
       if (c < 0) break;
       ++work;  // a step taken from the inbox: one unit
     }
-    return phase < done;
   }
 
   // The apex_search of the next edge: s->v counter-clockwise, v->s clockwise.
@@ -925,34 +892,8 @@ struct BoxWalk {
     big_scan = box_cells(target) > kBigScanCells;
   }
 
-  // Searches, step after step, until the walk is over, the budget is spent, or a candidate is
-  // left to decide_exactly (`pending`).
-  EXPANSE_DEVICE_FORCE void search() {
-    for (;;) {
-      scan_box();
-      if (work > budget || pending >= 0) return;
-      const Planned next = plan_next_box();
-      if (next == Planned::nothing) return;
-      if (next == Planned::box) continue;
-      if (!take_step()) return;
-      begin_apex_search();
-    }
-  }
-
-  // The pending candidate decided exactly, and the scan resumed after it. False: the walk ends
-  // here (the first pass hands the site on; or the device cannot decide).
-  EXPANSE_DEVICE_FORCE bool decide_pending() {
-    if constexpr (FirstPass) {
-      w.handed_on = true;
-      reason = DeferReason::undecided;
-      return false;
-    }
-    const int ip = pending;
-    const int verdict = decide_exactly(g.points, phase == nearest, i, phase == cw ? v : i, phase == cw ? i : v, best, ip);
-    if (verdict == 2) {
-      reason = DeferReason::undecided;
-      return false;
-    }
+  // decide_exactly's verdict on the pending candidate taken, and the scan resumed after it.
+  EXPANSE_DEVICE_FORCE void take_verdict(int ip, int verdict) {
     if (verdict == 1) {
       best = ip;
       best_p = load_site(g.points, ip);
@@ -960,18 +901,73 @@ struct BoxWalk {
     }
     slot = ((Strips && strip >= 0) || scanning_across()) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
-    return true;
   }
 
+  // The walk: searches (scan_box, box after box, until the best candidate's circle_region lies
+  // in the cells visited), each answer a step around the star (take_step) and the next edge's
+  // apex_search; the candidates the filters leave open decided exactly between them. The loops'
+  // breaks are the walk's control flow: kept in one place, so that the kernels compile to the
+  // code they were measured with.
   EXPANSE_DEVICE_FORCE StarWalk run() {
-    for (;;) {  // searches, and the candidates they leave to decide_exactly
-      search();
+    for (;;) {    // exact loop
+      for (;;) {  // search loop
+        scan_box();
+        if (work > budget || pending >= 0) break;
+        // The target box is scanned, or the strip (whose prefix holds the whole region).
+        bool found = false;
+        if (Strips && strip >= 0) {
+          strip = -1;
+          found = true;
+        } else {
+          visited = target;
+          if (best < 0) {
+            if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
+              reason = DeferReason::no_apex;
+              phase = deferred;
+              break;
+            }
+            grow_box();
+          } else {
+            // (A site the inbox gave its nearest neighbour has found it: no region.)
+            const CellBox region = given && !ExactLattice ? visited : region_of_best(&visited);
+            found = given || box_inside(region, visited);
+            given = false;
+            if constexpr (Strips) {
+              std::uint32_t end = 0;
+              if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
+                slot = 0;
+                slot_end = end;
+                big_scan = true;  // a better candidate narrows the prefix (take, then `narrow`)
+                continue;
+              }
+            }
+            box_towards(region);
+          }
+        }
+        begin_box();
+        if (!found) continue;
+        take_step();
+        if (phase >= done) break;
+        begin_apex_search();
+      }
       if (work > budget) {
         reason = DeferReason::undecided;
         phase = deferred;
       }
       if (phase >= done) break;
-      if (!decide_pending()) break;
+      if constexpr (FirstPass) {  // the light walk hands the site on
+        w.handed_on = true;
+        reason = DeferReason::undecided;
+        break;
+      }
+      const int ip = pending;
+      const int verdict =
+          decide_exactly(g.points, phase == nearest, i, phase == cw ? v : i, phase == cw ? i : v, best, ip);
+      if (verdict == 2) {
+        reason = DeferReason::undecided;
+        break;
+      }
+      take_verdict(ip, verdict);
     }
     w.predicates = predicates;
     w.work = work;
