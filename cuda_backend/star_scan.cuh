@@ -57,7 +57,7 @@ EXPANSE_DEVICE_FORCE CellBox cells_of(const GridView& g, double x_lo, double y_l
 /// largest j with j == 0 or xb[j] <= x, the boundaries ascending), so cell_x(x_lo) >= b.x0
 /// exactly when b.x0 == 0 or xb[b.x0] <= x_lo, and cell_x(x_hi) <= b.x1 exactly when
 /// b.x1 == gx - 1 or x_hi < xb[b.x1 + 1]; rows alike. A NaN bound gives false (the look-ups then
-/// decide, as before).
+/// decide).
 EXPANSE_DEVICE_FORCE bool quantile_box_holds(const GridView& g, const CellBox& b, double x_lo, double y_lo,
                                              double x_hi, double y_hi) {
   if (b.x0 > b.x1 || b.y0 > b.y1) return false;
@@ -232,7 +232,7 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // star.comp counted).
   auto nearest_box = [&]() {
     if (g.xb) {
-      if constexpr (ExactLattice) return cells_of(g, ps.x, ps.y, ps.x, ps.y);  // its former code
+      if constexpr (ExactLattice) return cells_of(g, ps.x, ps.y, ps.x, ps.y);  // the lattice's shape
       const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
       return CellBox{cx, cy, cx, cy};
     }
@@ -240,10 +240,9 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   };
   // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
   // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
-  // keep their former code (the box, then the inbox; a region for a given neighbour too, below;
-  // region_of_best's former shape), so that their kernels compile exactly as before (the same
-  // SASS): with the new code the 4096^2 lattice's star stage took 15.85 ms instead of 15.70
-  // (H100).
+  // take a shape of their own (the box, then the inbox; a region for a given neighbour too, below;
+  // region_of_best's shape for them), the code measured fastest for them: in the other walks'
+  // shape the 4096^2 lattice's star stage took 15.85 ms against 15.70 (H100).
   bool given = false;
   CellBox target{0, 0, -1, -1};
   if constexpr (ExactLattice) target = nearest_box();
@@ -275,10 +274,10 @@ EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, i
   // `inside` (a box of quantile cells, the one just scanned), in the second phase's walks
   // (ReadsInbox), that box itself where it holds the region (quantile_box_holds): most searches
   // end there (kuzmin, counted on the CPU: 80% of these tests), and the region's four look-ups
-  // were half of the light walk's. The first phase's walks are a little faster without it
+  // are half of the light walk's. The first phase's walks are a little faster without it
   // (H100, 4096^2: kuzmin's first phase 32.15 ms against 32.35 with it). The look-up after the
   // branches rather than in each: ptxas places kuzmin's spills better so (52.95 -> 52.56 ms). A
-  // lattice's walks keep the former shape (see `given`).
+  // lattice's walks take a shape of their own (see `given`).
   auto region_of_best = [&](const CellBox* inside = nullptr) {
     if constexpr (ExactLattice) {
       static_cast<void>(inside);
