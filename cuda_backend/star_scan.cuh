@@ -187,61 +187,80 @@ enum class Walker { thread, warp };
 /// registers weighed on the uniform grid's walks too.
 template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
           bool Strips = false, GridKind Cells = GridKind::any>
-struct BoxWalk {
+EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, int i, int* row, unsigned budget,
+                                        const StarInbox& inbox = {}) {
+  const GridView g = of_kind<Cells>(grid);
   // Whether this walk compiles the scans across (TailColumns): the kernels' guided_tails walks
-  // alone, so that the others' code stays free of them (the host's walks take any grid).
+  // alone, so that the others' code stays as it was (the host's walks take any grid).
 #if defined(__CUDA_ARCH__)
-  static constexpr bool kAcross = Cells == GridKind::guided_tails;
+  constexpr bool kAcross = Cells == GridKind::guided_tails;
   // Whether the apex searches' candidate loop keeps the best's lift and loads the next point
-  // ahead (scan_row_segment_apex_search): on uniform cells and guided quantile cells, not on
-  // those with TailColumns.
-  static constexpr bool kLoopAhead = Cells == GridKind::uniform || Cells == GridKind::guided;
+  // ahead (below): on uniform cells and guided quantile cells, not on those with TailColumns.
+  constexpr bool kLoopAhead = Cells == GridKind::uniform || Cells == GridKind::guided;
 #else
-  static constexpr bool kAcross = true;
-  static constexpr bool kLoopAhead = true;  // the same decisions either way
+  constexpr bool kAcross = true;
+  constexpr bool kLoopAhead = true;  // the same decisions either way
 #endif
 #if !defined(__CUDACC__)
   static_assert(By == Walker::thread, "a warp walks only on the device");
 #endif
-  enum Phase : int { nearest, ccw, cw, done, deferred };
-  static constexpr int kNone = 1 << 29;
-  /// What a box scan leaves the search with: the next box (or strip) to scan, the answer, or
-  /// nothing (no candidate anywhere: the walk defers).
-  enum class Planned { box, answer, nothing };
-
-  const GridView g;
-  const int* const pred;
-  const int i;
-  int* const row;
-  const unsigned budget;
-  const StarInbox& inbox;
   // In a warp every thread holds the same walk state; one of them writes the star.
   bool writer = true;
+#if defined(__CUDACC__)
+  if constexpr (By == Walker::warp) writer = (threadIdx.x & 31) == 0;
+#endif
+  enum Phase : int { nearest, ccw, cw, done, deferred };
+  constexpr int kNone = 1 << 29;
+  constexpr double eps = ex::epsilon;
   StarWalk w;
-  const double2 ps;
-  const int pred_s;
-  const CellBox whole;
+  const double2 ps = load_site(g.points, i);
+  const int pred_s = pred[i];
+  const CellBox whole{0, 0, g.gx - 1, g.gy - 1};
   int phase = nearest;
   DeferReason reason = DeferReason::undecided;
   // The edge searched, a->b (the nearest-neighbour search has a = b = s): s->v counter-clockwise,
   // v->s clockwise, so its ends are always i and v (v = -1 in the nearest-neighbour search).
-  double2 pa, pb;
+  double2 pa = ps, pb = ps;
   int best = -1;
-  double2 best_p;
+  double2 best_p = ps;
   double best_d2 = 0.0;
   // visited: cells done; target: the box being scanned (target minus visited, a row segment at
   // a time: in row y, `part` 0 is left of the visited box or the whole row, 1 right of it).
   CellBox visited{kNone, kNone, -kNone, -kNone};
-  // given: the inbox named the site's nearest neighbour (ReadsInbox; the constructor).
+  // First box of the nearest-neighbour search: the site's cell (one look-up an axis) and, on the
+  // uniform grid, its neighbours within half a cell (about 9 candidates on uniform inputs, as
+  // star.comp counted).
+  auto nearest_box = [&]() {
+    if (g.xb) {
+      if constexpr (ExactLattice) return cells_of(g, ps.x, ps.y, ps.x, ps.y);  // the lattice's shape
+      const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
+      return CellBox{cx, cy, cx, cy};
+    }
+    return cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w, ps.y + 0.5 * g.cell_h);
+  };
+  // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
+  // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
+  // take a shape of their own (the box, then the inbox; a region for a given neighbour too, below;
+  // region_of_best's shape for them), the code measured fastest for them: in the other walks'
+  // shape the 4096^2 lattice's star stage took 15.85 ms against 15.70 (H100).
   bool given = false;
   CellBox target{0, 0, -1, -1};
+  if constexpr (ExactLattice) target = nearest_box();
+  if constexpr (ReadsInbox) {
+    if (const int start = inbox.first_neighbour(i); start >= 0) {
+      best = start;
+      given = true;
+      target = CellBox{0, 0, -1, -1};
+    }
+  }
+  if constexpr (!ExactLattice) {
+    if (!given) target = nearest_box();
+  }
   // The target is scanned a line at a time: a row, or a column of TailColumns (`across`) where
   // the box lies in one side's copied columns and is taller than wide. `y` is the line.
   bool across = false;
-  int y = 0, part = 1;
+  int y = target.y0 - 1, part = 1;
   std::uint32_t slot = 0, slot_end = 0;
-  // pending: the candidate left to decide_exactly (-1: none); narrow: a better candidate
-  // found in a big scan, whose region the rest of the box is cut to.
   int pending = -1;
   bool big_scan = false, narrow = false;
   int v0 = -1, v = -1;
@@ -251,55 +270,6 @@ struct BoxWalk {
   int strip = -1;
   CircleRegion last_region{};
 
-  // A site whose inbox names a neighbour starts its walk there: no nearest-neighbour search
-  // (an empty first box, and the search over at once), and no look-ups for it. A lattice's walks
-  // take the box first and then the inbox, and a region for a given neighbour too (plan_next_box;
-  // region_of_best has a shape of its own for them): their kernels compile to the code measured
-  // fastest for them (H100, the 4096^2 lattice's star stage 15.70 ms against 15.85 in the
-  // shape of the other walks).
-  EXPANSE_DEVICE_FORCE BoxWalk(const GridView& grid, const int* site_pred, int site, int* star_row, unsigned work_budget,
-                               const StarInbox& site_inbox)
-      : g(of_kind<Cells>(grid)),
-        pred(site_pred),
-        i(site),
-        row(star_row),
-        budget(work_budget),
-        inbox(site_inbox),
-        ps(load_site(g.points, site)),
-        pred_s(site_pred[site]),
-        whole{0, 0, g.gx - 1, g.gy - 1},
-        pa(ps),
-        pb(ps),
-        best_p(ps) {
-#if defined(__CUDACC__)
-    if constexpr (By == Walker::warp) writer = (threadIdx.x & 31) == 0;
-#endif
-    if constexpr (ExactLattice) target = nearest_box();
-    if constexpr (ReadsInbox) {
-      if (const int start = inbox.first_neighbour(i); start >= 0) {
-        best = start;
-        given = true;
-        target = CellBox{0, 0, -1, -1};
-      }
-    }
-    if constexpr (!ExactLattice) {
-      if (!given) target = nearest_box();
-    }
-    y = target.y0 - 1;
-  }
-
-  // First box of the nearest-neighbour search: the site's cell (one look-up an axis) and, on the
-  // uniform grid, its neighbours within half a cell (about 9 candidates on uniform inputs, as
-  // star.comp counted).
-  EXPANSE_DEVICE_FORCE CellBox nearest_box() {
-    if (g.xb) {
-      if constexpr (ExactLattice) return cells_of(g, ps.x, ps.y, ps.x, ps.y);  // the lattice's shape
-      const int cx = g.cell_x(ps.x), cy = g.cell_y(ps.y);
-      return CellBox{cx, cy, cx, cy};
-    }
-    return cells_of(g, ps.x - 0.5 * g.cell_w, ps.y - 0.5 * g.cell_h, ps.x + 0.5 * g.cell_w, ps.y + 0.5 * g.cell_h);
-  }
-
   // The cells where a site better than `best` could lie, with `bounds` set to match. With
   // `inside` (a box of quantile cells, the one just scanned), in the second phase's walks
   // (ReadsInbox), that box itself where it holds the region (quantile_box_holds): most searches
@@ -307,13 +277,13 @@ struct BoxWalk {
   // are half of the light walk's. The first phase's walks are a little faster without it
   // (H100, 4096^2: kuzmin's first phase 32.15 ms against 32.35 with it). The look-up after the
   // branches rather than in each: ptxas places kuzmin's spills better so (52.95 -> 52.56 ms). A
-  // lattice's walks take a shape of their own (the constructor says why).
-  EXPANSE_DEVICE_FORCE CellBox region_of_best(const CellBox* inside = nullptr) {
+  // lattice's walks take a shape of their own (see `given`).
+  auto region_of_best = [&](const CellBox* inside = nullptr) {
     if constexpr (ExactLattice) {
       static_cast<void>(inside);
       CellBox region = whole;
       if (phase == nearest) {
-        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * ex::epsilon * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
+        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
         region = cells_of(g, ps.x - reach, ps.y - reach, ps.x + reach, ps.y + reach);
         bounds.disc = true;
         bounds.ox = ps.x;
@@ -336,7 +306,7 @@ struct BoxWalk {
       if (phase == nearest) {
         // Every site at least as near as the best lies within `reach` of s (rounding of d2, of
         // sqrt and of the box's corners, and underflow in d2, all covered).
-        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * ex::epsilon * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
+        const double reach = sqrt(best_d2) * (1.0 + 1e-6) + 4.0 * eps * (fabs(ps.x) + fabs(ps.y)) + 1e-160;
         x_lo = ps.x - reach;
         y_lo = ps.y - reach;
         x_hi = ps.x + reach;
@@ -361,13 +331,13 @@ struct BoxWalk {
       if (ReadsInbox && g.xb && inside && quantile_box_holds(g, *inside, x_lo, y_lo, x_hi, y_hi)) return *inside;
       return cells_of(g, x_lo, y_lo, x_hi, y_hi);
     }
-  }
+  };
 
   // Strips: the side whose strip holds `region` (the last region_of_best's) and runs along it
   // far enough that its prefix up to the region's inner bound is the cheaper scan, with that
   // prefix's length in *end; else -1. Box scans cost a row a cell along the side plus its
   // sites (two on quantile cells, 3.5 on uniform ones), so a prefix under two sites a cell wins.
-  EXPANSE_DEVICE_FORCE int strip_for(const CellBox& region, std::uint32_t* end) {
+  auto strip_for = [&](const CellBox& region, std::uint32_t* end) {
     int side = -1, along = 0;
     if (region.x1 <= 1 || region.x0 >= g.gx - 2) {
       side = region.x1 <= 1 ? kStripLeft : kStripRight;
@@ -386,45 +356,45 @@ struct BoxWalk {
     if (prefix >= 2 * along) return -1;
     *end = static_cast<std::uint32_t>(prefix);
     return side;
-  }
+  };
   // The candidate at `slot`: a site id in box scans, the strip's k-th site in strip scans.
-  EXPANSE_DEVICE_FORCE int site_at(std::uint32_t k) {
+  auto site_at = [&](std::uint32_t k) {
     if constexpr (Strips) {
       if (strip >= 0) return load_readonly(g.strips.ids + static_cast<std::size_t>(strip) * g.strips.capacity + k);
     }
     return static_cast<int>(k);
-  }
+  };
   // Whether the target's lines are TailColumns' columns, and whether the scan is across (a
   // strip's scan is not, whatever the box before it).
-  EXPANSE_DEVICE_FORCE bool in_columns() { return kAcross && g.tail.ids && across; }
-  EXPANSE_DEVICE_FORCE bool scanning_across() { return in_columns() && !(Strips && strip >= 0); }
+  auto in_columns = [&]() { return kAcross && g.tail.ids && across; };
+  auto scanning_across = [&]() { return in_columns() && !(Strips && strip >= 0); };
   // The candidate at `slot` in any scan: TailColumns' k-th site in a scan across.
-  EXPANSE_DEVICE_FORCE int slot_site(std::uint32_t k) {
+  auto slot_site = [&](std::uint32_t k) {
     if (scanning_across()) return load_readonly(g.tail.ids + k);
     return site_at(k);
-  }
+  };
   // Whether line l of the target crosses the visited box (then it has two parts), and the
   // target's last line.
-  EXPANSE_DEVICE_FORCE bool crosses_visited(int l) {
+  auto crosses_visited = [&](int l) {
     return in_columns() ? l >= visited.x0 && l <= visited.x1 : l >= visited.y0 && l <= visited.y1;
-  }
-  EXPANSE_DEVICE_FORCE int last_line() { return in_columns() ? target.x1 : target.y1; }
+  };
+  auto last_line = [&]() { return in_columns() ? target.x1 : target.y1; };
   // Starts the scan of a new target: across where TailColumns holds it and it is taller than wide.
   // (`across` is never read without kAcross, so that other walks keep no trace of it.)
-  EXPANSE_DEVICE_FORCE void begin_target() {
+  auto begin_target = [&]() {
     if constexpr (kAcross) {
-      const int width = g.tail.width;
-      across = g.tail.ids && (target.x1 < width || target.x0 >= g.gx - width) &&
+      const int w = g.tail.width;
+      across = g.tail.ids && (target.x1 < w || target.x0 >= g.gx - w) &&
                target.y1 - target.y0 > target.x1 - target.x0;
       y = (across ? target.x0 : target.y0) - 1;
     } else {
       y = target.y0 - 1;
     }
-  }
+  };
 
   // Row y's part (0: left of the visited box or the whole row; 1: right of it) of the target
   // box minus the visited one, cut to `bounds`: sites [*first, *last).
-  EXPANSE_DEVICE_FORCE void segment_of(int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
+  auto segment_of = [&](int row_y, int row_part, std::uint32_t* first, std::uint32_t* last) {
     if (in_columns()) {
       // Column row_y of TailColumns, not cut to `bounds`: a box taller than wide in these wide
       // columns is a region narrower than a column, and the disc's chord in the column nearest
@@ -451,7 +421,7 @@ struct BoxWalk {
       *first = load_cell_start(g.cell_start, c0);
       *last = load_cell_start(g.cell_start, c0 + (x1 - x0) + 1);
     }
-  }
+  };
   // Candidate ip's verdict against the best: 0 reject, 1 better than the best, 2 the
   // filters cannot tell. Straight-line: no branch that differs by search phase. Neither counts
   // the predicates nor turns away a, b and the best (`excluded`): the thread's candidate loop
@@ -460,8 +430,8 @@ struct BoxWalk {
   // point); an apex search's candidate costs two predicates where it is and a best exists,
   // else one. `best_lift`: the best's lift where the caller keeps it (else formed here);
   // `loaded`: p holds the candidate's point already.
-  EXPANSE_DEVICE_FORCE int judge_raw(const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left,
-                                     const ex::ApexLift* best_lift = nullptr, bool loaded = false) {
+  auto judge_raw = [&](const ex::ApexEdge& edge, int ip, double2& p, double& d2, bool& left,
+                       const ex::ApexLift* best_lift = nullptr, bool loaded = false) {
     if (!loaded) p = load_site(g.points, ip);
     // The filters in the edge's frame (apex_filter.hpp). The edge and the best's lift are
     // formed here rather than kept as the walk's state: registers cost this kernel more than
@@ -515,22 +485,22 @@ struct BoxWalk {
     }
     left = o.positive;
     return verdict;
-  }
+  };
   // a, b and the best are never candidates. No filter rejects them (each is a zero
   // orientation, incircle or distance, or the best's own distance), so only a flagged
   // candidate needs the test.
-  EXPANSE_DEVICE_FORCE bool excluded(int ip) { return ip == i || ip == v || ip == best; }
-  EXPANSE_DEVICE_FORCE int judge(int ip, double2& p, double& d2) {
+  auto excluded = [&](int ip) { return ip == i || ip == v || ip == best; };
+  auto judge = [&](int ip, double2& p, double& d2) {
     bool left;
     int verdict = judge_raw(ex::apex_edge(pa.x, pa.y, pb.x, pb.y), ip, p, d2, left);
     predicates += phase != nearest ? 1u + (left && best >= 0) : 0u;
     if (verdict != 0 && excluded(ip)) verdict = 0;
     return verdict;
-  }
+  };
   // What the thread does with a flagged candidate: take it if better, and leave the
   // candidate loop to decide it exactly or, in a large box planned from a worse
   // candidate's region, to narrow the rest of the scan to the better one's.
-  EXPANSE_DEVICE_FORCE bool take(int ip, int verdict, double2 p, double d2) {
+  auto take = [&](int ip, int verdict, double2 p, double d2) {
     if (verdict == 1) {
       best = ip;
       best_p = p;
@@ -542,7 +512,7 @@ struct BoxWalk {
       return true;
     }
     return false;
-  }
+  };
 #if defined(__CUDACC__)
   // The warp's lanes test one candidate each (a lane whose `valid` is false, none), in the
   // thread's order. `seen`: how many the thread would have tested, up to and including the first
@@ -554,7 +524,7 @@ struct BoxWalk {
     double2 p;
     double d2;
   };
-  EXPANSE_DEVICE_FORCE LaneTest test_lanes(bool valid, std::uint32_t candidate, unsigned available) {
+  auto test_lanes = [&](bool valid, std::uint32_t candidate, unsigned available) {
     double2 p = best_p;
     double d2 = 0.0;
     const unsigned saved = predicates;
@@ -569,13 +539,13 @@ struct BoxWalk {
       t.d2 = __shfl_sync(0xffffffffu, d2, t.first);
     }
     return t;
-  }
+  };
   // The warp's row fetch: lane k takes row y + 1 + k (up to 32 rows, not past the target box),
   // both its parts, and the lanes then test the rows' candidates 32 at a time in the thread's
   // order. The first flagged candidate leaves the walk where the thread would stand on meeting
   // it (its row, part and slot, the work counted so far) and is taken as the thread would; with
   // none, the walk stands after the last row.
-  EXPANSE_DEVICE_FORCE void scan_rows_together() {
+  auto scan_rows_together = [&]() {
     const unsigned lane = threadIdx.x & 31;
     const int count = min(32, last_line() - y);
     const int row_y = y + 1 + static_cast<int>(lane);
@@ -642,316 +612,271 @@ struct BoxWalk {
     y += count;
     part = crosses_visited(y) ? 1 : 0;
     slot = slot_end = 0;
-  }
+  };
 #endif
-
-  // ---- scan_box: the scan loop, a row segment at a time ----
-
-  // The next row segment of the target box once the last is done (set up as one unit of work);
-  // false: the box, or the strip's prefix, is scanned, or the budget is spent.
-  EXPANSE_DEVICE_FORCE bool next_row_segment() {
-    if (slot < slot_end) return true;
-    if (Strips && strip >= 0) return false;  // the strip's prefix is scanned
-    if (++work > budget) return false;
-    const bool in_rows = crosses_visited(y);  // before `part`: the scans across read it so too
-    if (part == 0 && in_rows) {
-      part = 1;
-    } else {
-      part = 0;
-      ++y;
-    }
-    if (y > last_line()) return false;
-    segment_of(y, part, &slot, &slot_end);
-    return true;
-  }
-
-  // The thread's candidate loop for the nearest-neighbour search (and a lattice's apex searches):
-  // each candidate judged whole. (A lattice keeps this loop: with the apex searches' loop its
-  // 4096^2 stars took 16.35 ms against 15.87, H100.)
-  EXPANSE_DEVICE_FORCE void scan_row_segment_judged() {
-    for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-      ++work;
-      double2 p;
-      double d2;
-      const int ip = slot_site(slot);
-      const int verdict = judge(ip, p, d2);
-      if (verdict != 0 && take(ip, verdict, p, d2)) break;
-      if (work > budget) break;
-    }
-  }
-
-  // The thread's candidate loop for the apex searches: it tests no phase and keeps no branch
-  // around the nearest-neighbour verdict, and counts the predicates without a test of the best:
-  // two for a candidate left of the edge, taken back where no best exists yet, and then the
-  // candidate is flagged (it is better), so the correction waits for the flag. a, b and the best
-  // are turned away only where the filters flag them. With kLoopAhead it keeps the best's lift
-  // and loads the next point ahead (57 instructions a candidate; 4096^2 uniform 29.2 ms GPU-only
-  // against 30.2 without, H100, 2026-11-28). Kuzmin's cells (TailColumns) lost 0.4 ms with those
-  // two and keep the loop without them (kuzmin 45.4 -> 44.3 ms).
-  EXPANSE_DEVICE_FORCE void scan_row_segment_apex_search() {
-    const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
-    auto lift_of_best = [&]() {
-      return ex::apex_lift(edge, ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2});
-    };
-    // kLoopAhead: the best's lift kept, and the next candidate's point loaded while this one is
-    // tested (the last one's again at the segment's end: no branch), since little else is left
-    // to hide the load's latency.
-    ex::ApexLift best_lift{};
-    double2 next = ps;
-    if constexpr (kLoopAhead) {
-      best_lift = lift_of_best();
-      if (slot < slot_end) next = load_site(g.points, slot_site(slot));
-    }
-    for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
-      ++work;
-      double2 p = next;
-      if constexpr (kLoopAhead) next = load_site(g.points, slot_site(min(slot + 1, slot_end - 1)));
-      double d2;
-      bool left;
-      const int ip = slot_site(slot);
-      const int verdict = judge_raw(edge, ip, p, d2, left, kLoopAhead ? &best_lift : nullptr, kLoopAhead);
-      predicates += left ? 2u : 1u;
-      if (verdict != 0) {
-        if (left && best < 0) --predicates;
-        if (!excluded(ip) && take(ip, verdict, p, d2)) break;
-        if constexpr (kLoopAhead) best_lift = lift_of_best();
-      }
-      if (work > budget) break;
-    }
-  }
-
-  // The current row segment's candidates, up to the first that leaves the scan (a better one in
-  // a big scan, or one left to decide_exactly) or the budget's end.
-  EXPANSE_DEVICE_FORCE void scan_row_segment() {
-    if constexpr (By == Walker::thread) {
-      // A warp's lanes leave this loop as their row segments end and wait there for the
-      // longest (7.2 lanes of 32 test candidates on average; ncu, H100); the loop's state
-      // stays in registers only so. One loop for each kind of search, each compiled for it
-      // (the phase is fixed within a row segment).
-      if (ExactLattice || phase == nearest)
-        scan_row_segment_judged();
-      else
-        scan_row_segment_apex_search();
-    }
+  for (;;) {    // exact loop
+    for (;;) {  // search loop
+      for (;;) {  // scan loop
+        bool batched = false;
 #if defined(__CUDACC__)
-    if constexpr (By == Walker::warp) {
-      const unsigned lane = threadIdx.x & 31;
-      while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
-        const std::uint32_t mine = slot + lane;
-        const bool valid = mine < slot_end;
-        const LaneTest t = test_lanes(valid, valid ? static_cast<std::uint32_t>(slot_site(mine)) : mine,
-                                      slot_end - slot);
-        work += t.seen;
-        if (t.first < 0) {
-          slot += t.seen;
-          if (work > budget) break;
-          continue;
-        }
-        slot += static_cast<std::uint32_t>(t.first);
-        const int ip = slot_site(slot);
-        if (take(ip, t.verdict, t.p, t.d2)) break;
-        ++slot;
-        if (work > budget) break;
-      }
-    }
-#endif
-  }
-
-  // A better candidate found in a big scan: cells outside both the visited box and its region
-  // need no look, now or later (regions only shrink). Rows already scanned were scanned wider:
-  // no harm.
-  EXPANSE_DEVICE_FORCE void narrow_to_best() {
-    narrow = false;
-    const CellBox region = region_of_best();
-    if (Strips && strip >= 0) {
-      // The strip's prefix shrinks to the better candidate's region.
-      std::uint32_t end = slot_end;
-      if (strip_for(region, &end) == strip) slot_end = min(slot_end, end);
-      return;
-    }
-    const CellBox keep = visited.x0 > visited.x1
-                             ? region
-                             : CellBox{min(visited.x0, region.x0), min(visited.y0, region.y0),
-                                       max(visited.x1, region.x1), max(visited.y1, region.y1)};
-    target = {max(target.x0, keep.x0), max(target.y0, keep.y0), min(target.x1, keep.x1), min(target.y1, keep.y1)};
-    big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
-  }
-
-  // The target box (or the strip's prefix) scanned: returns when it is done, the budget is
-  // spent, or a candidate is left to decide_exactly (`pending`).
-  EXPANSE_DEVICE_FORCE void scan_box() {
-    for (;;) {
-      bool batched = false;
-#if defined(__CUDACC__)
-      // A warp fetches the next rows' segments together (rows of a box are often a cell or
-      // two wide, too few candidates for 32 lanes one segment at a time).
-      if constexpr (By == Walker::warp) {
-        if (strip < 0 && slot >= slot_end && !(part == 0 && crosses_visited(y)) && y < last_line()) {
-          batched = true;
-          scan_rows_together();
-        }
-      }
-#endif
-      if (!batched) {
-        if (!next_row_segment()) break;
-        scan_row_segment();
-      }
-      if (work > budget || pending >= 0) break;
-      if (narrow) narrow_to_best();
-    }
-  }
-
-  // ---- the search loop: box after box, then the walk's next step ----
-
-  // The target box (or the strip) is scanned: the search is over where the best candidate's
-  // circle_region lies inside the cells visited; else the next box, grown (no candidate yet) or
-  // towards the region, or the strip that holds the region.
-  EXPANSE_DEVICE_FORCE Planned plan_next_box() {
-    bool found = false;
-    if (Strips && strip >= 0) {
-      strip = -1;
-      found = true;
-    } else {
-      visited = target;
-      if (best < 0) {
-        if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
-          reason = DeferReason::no_apex;
-          phase = deferred;
-          return Planned::nothing;
-        }
-        const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
-        target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
-                  min(visited.y1 + grow_y, whole.y1)};
-      } else {
-        // (A site the inbox gave its nearest neighbour has found it: no region.)
-        const CellBox region = given && !ExactLattice ? visited : region_of_best(&visited);
-        found = given || box_inside(region, visited);
-        given = false;
-        if constexpr (Strips) {
-          std::uint32_t end = 0;
-          if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
-            slot = 0;
-            slot_end = end;
-            big_scan = true;  // a better candidate narrows the prefix (take, then `narrow`)
-            return Planned::box;
+        // A warp fetches the next rows' segments together (rows of a box are often a cell or
+        // two wide, too few candidates for 32 lanes one segment at a time).
+        if constexpr (By == Walker::warp) {
+          if (strip < 0 && slot >= slot_end && !(part == 0 && crosses_visited(y)) && y < last_line()) {
+            batched = true;
+            scan_rows_together();
           }
         }
-        // Towards the region, by at most half the visited box per side: nearer candidates
-        // come first and shrink the region (a far region is often a poor early candidate's).
-        const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
-        target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
-                  min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
-      }
-    }
-    begin_target();
-    part = 1;
-    slot = slot_end = 0;
-    big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
-    return found ? Planned::answer : Planned::box;
-  }
-
-  // The search is over: best is the answer. The walk's next step, as in walk_star, and the
-  // steps after it that the inbox gives (StarInbox). False: the walk is over (done or deferred).
-  EXPANSE_DEVICE_FORCE bool take_step() {
-    for (int c = best;;) {
-      if (phase == nearest) {
-        v0 = c;
-        if (writer) row[0] = c;
-        w.ccw = 1;
-        v = c;
-        phase = ccw;
-      } else if (c == v0) {
-        if (phase == ccw) {
-          w.closed = true;
-          phase = done;
-        } else {
-          reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
-          phase = deferred;
+#endif
+        if (!batched) {
+          if (slot >= slot_end) {
+            if (Strips && strip >= 0) break;  // the strip's prefix is scanned
+            if (++work > budget) break;
+            const bool in_rows = crosses_visited(y);  // before `part`, as the code before the scans across
+            if (part == 0 && in_rows) {
+              part = 1;
+            } else {
+              part = 0;
+              ++y;
+            }
+            if (y > last_line()) break;
+            segment_of(y, part, &slot, &slot_end);
+          }
+          if constexpr (By == Walker::thread) {
+            // A warp's lanes leave this loop as their row segments end and wait there for the
+            // longest (7.2 lanes of 32 test candidates on average; ncu, H100); the loop's state
+            // stays in registers only so.
+            //
+            // One loop for each kind of search, each compiled for it (the phase is fixed within a
+            // row segment): the apex searches' loop tests no phase and keeps no branch around the
+            // nearest-neighbour verdict, and counts the predicates without a test of the best:
+            // two for a candidate left of the edge, taken back where no best exists yet, and
+            // then the candidate is flagged (it is better), so the correction waits for the flag.
+            // a, b and the best are turned away only where the filters flag them. The apex loop
+            // keeps the best's lift and loads the next point ahead (57 instructions a candidate;
+            // 4096^2 uniform 29.2 ms GPU-only against 30.2 without, H100, 2026-11-28). Kuzmin's
+            // cells (TailColumns) lost 0.4 ms with those two and keep the loop without them
+            // (kLoopAhead; kuzmin 45.4 -> 44.3 ms).
+            if (ExactLattice || phase == nearest) {
+              // (A lattice keeps this loop: with the apex searches' loop below its 4096^2 stars
+              // took 16.35 ms against 15.87, H100.)
+              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+                ++work;
+                double2 p;
+                double d2;
+                const int ip = slot_site(slot);
+                const int verdict = judge(ip, p, d2);
+                if (verdict != 0 && take(ip, verdict, p, d2)) break;
+                if (work > budget) break;
+              }
+            } else {
+              const ex::ApexEdge edge = ex::apex_edge(pa.x, pa.y, pb.x, pb.y);
+              auto lift_of_best = [&]() {
+                return ex::apex_lift(edge, ex::ApexPoint{ex::sub(best_p.x, pa.x), ex::sub(best_p.y, pa.y), best_d2});
+              };
+              // kLoopAhead: the best's lift kept, and the next candidate's point loaded while
+              // this one is tested (the last one's again at the segment's end: no branch), since
+              // little else is left to hide the load's latency.
+              ex::ApexLift best_lift{};
+              double2 next = ps;
+              if constexpr (kLoopAhead) {
+                best_lift = lift_of_best();
+                if (slot < slot_end) next = load_site(g.points, slot_site(slot));
+              }
+              for (; slot < slot_end; ++slot) {  // candidate loop: straight-line, one exit
+                ++work;
+                double2 p = next;
+                if constexpr (kLoopAhead) next = load_site(g.points, slot_site(min(slot + 1, slot_end - 1)));
+                double d2;
+                bool left;
+                const int ip = slot_site(slot);
+                const int verdict = judge_raw(edge, ip, p, d2, left, kLoopAhead ? &best_lift : nullptr, kLoopAhead);
+                predicates += left ? 2u : 1u;
+                if (verdict != 0) {
+                  if (left && best < 0) --predicates;
+                  if (!excluded(ip) && take(ip, verdict, p, d2)) break;
+                  if constexpr (kLoopAhead) best_lift = lift_of_best();
+                }
+                if (work > budget) break;
+              }
+            }
+          }
+  #if defined(__CUDACC__)
+          if constexpr (By == Walker::warp) {
+            const unsigned lane = threadIdx.x & 31;
+            while (slot < slot_end) {  // 32 candidates at a time, the first flagged one taken
+              const std::uint32_t mine = slot + lane;
+              const bool valid = mine < slot_end;
+              const LaneTest t = test_lanes(valid, valid ? static_cast<std::uint32_t>(slot_site(mine)) : mine,
+                                            slot_end - slot);
+              work += t.seen;
+              if (t.first < 0) {
+                slot += t.seen;
+                if (work > budget) break;
+                continue;
+              }
+              slot += static_cast<std::uint32_t>(t.first);
+              const int ip = slot_site(slot);
+              if (take(ip, t.verdict, t.p, t.d2)) break;
+              ++slot;
+              if (work > budget) break;
+            }
+          }
+  #endif
         }
-      } else if (w.ccw + w.cw >= kStar) {
-        reason = DeferReason::full_row;
-        phase = deferred;
+        if (work > budget || pending >= 0) break;
+        if (narrow) {
+          // Cells outside both the visited box and the new region need no look, now or later
+          // (regions only shrink). Rows already scanned were scanned wider: no harm.
+          narrow = false;
+          const CellBox region = region_of_best();
+          if (Strips && strip >= 0) {
+            // The strip's prefix shrinks to the better candidate's region.
+            std::uint32_t end = slot_end;
+            if (strip_for(region, &end) == strip) slot_end = min(slot_end, end);
+            continue;
+          }
+          const CellBox keep = visited.x0 > visited.x1
+                                   ? region
+                                   : CellBox{min(visited.x0, region.x0), min(visited.y0, region.y0),
+                                             max(visited.x1, region.x1), max(visited.y1, region.y1)};
+          target = {max(target.x0, keep.x0), max(target.y0, keep.y0), min(target.x1, keep.x1),
+                    min(target.y1, keep.y1)};
+          big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
+        }
+      }
+      if (work > budget || pending >= 0) break;
+
+      // The target box is scanned, or the strip (whose prefix holds the whole region).
+      bool found = false;
+      if (Strips && strip >= 0) {
+        strip = -1;
+        found = true;
       } else {
-        if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
-        if (phase == ccw)
-          ++w.ccw;
-        else
-          ++w.cw;
-        v = c;
+        visited = target;
+        if (best < 0) {
+          if (box_inside(whole, visited)) {  // no candidate anywhere: not for a valid hull
+            reason = DeferReason::no_apex;
+            phase = deferred;
+            break;
+          }
+          const int grow_x = max(visited.x1 - visited.x0 + 1, 1), grow_y = max(visited.y1 - visited.y0 + 1, 1);
+          target = {max(visited.x0 - grow_x, 0), max(visited.y0 - grow_y, 0), min(visited.x1 + grow_x, whole.x1),
+                    min(visited.y1 + grow_y, whole.y1)};
+        } else {
+          // (A site the inbox gave its nearest neighbour has found it: no region.)
+          const CellBox region = given && !ExactLattice ? visited : region_of_best(&visited);
+          found = given || box_inside(region, visited);
+          given = false;
+          if constexpr (Strips) {
+            std::uint32_t end = 0;
+            if (!found && phase != nearest && g.strips.ids && (strip = strip_for(region, &end)) >= 0) {
+              slot = 0;
+              slot_end = end;
+              big_scan = true;  // a better candidate narrows the prefix (take, then `narrow`)
+              continue;
+            }
+          }
+          // Towards the region, by at most half the visited box per side: nearer candidates
+          // come first and shrink the region (a far region is often a poor early candidate's).
+          const int rx = max((visited.x1 - visited.x0 + 1) >> 1, 1), ry = max((visited.y1 - visited.y0 + 1) >> 1, 1);
+          target = {max(min(visited.x0, region.x0), visited.x0 - rx), max(min(visited.y0, region.y0), visited.y0 - ry),
+                    min(max(visited.x1, region.x1), visited.x1 + rx), min(max(visited.y1, region.y1), visited.y1 + ry)};
+        }
       }
-      if (phase == ccw && pred_s == v) {
-        phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
-        v = v0;
+      begin_target();
+      part = 1;
+      slot = slot_end = 0;
+      big_scan = box_cells(target) - box_cells(visited) > kBigScanCells;
+      if (!found) continue;
+
+      // The search is over: best is the answer. The walk's next step, as in walk_star, and
+      // the steps after it that the inbox gives (StarInbox).
+      for (int c = best;;) {
+        if (phase == nearest) {
+          v0 = c;
+          if (writer) row[0] = c;
+          w.ccw = 1;
+          v = c;
+          phase = ccw;
+        } else if (c == v0) {
+          if (phase == ccw) {
+            w.closed = true;
+            phase = done;
+          } else {
+            reason = DeferReason::no_apex;  // a clockwise walk cannot close the star
+            phase = deferred;
+          }
+        } else if (w.ccw + w.cw >= kStar) {
+          reason = DeferReason::full_row;
+          phase = deferred;
+        } else {
+          if (writer) row[phase == ccw ? w.ccw : kStar - 1 - w.cw] = c;
+          if (phase == ccw)
+            ++w.ccw;
+          else
+            ++w.cw;
+          v = c;
+        }
+        if (phase == ccw && pred_s == v) {
+          phase = cw;  // s->v is an outer edge: the rest lies clockwise from v0
+          v = v0;
+        }
+        if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
+        if (phase >= done) break;
+        if constexpr (!ReadsInbox) break;
+        c = inbox.apex(i, v, phase == ccw);
+        if (c < 0) break;
+        ++work;  // a step taken from the inbox: one unit
       }
-      if (phase == cw && pred[v] == i) phase = done;  // v->s is an outer edge: complete
       if (phase >= done) break;
-      if constexpr (!ReadsInbox) break;
-      c = inbox.apex(i, v, phase == ccw);
-      if (c < 0) break;
-      ++work;  // a step taken from the inbox: one unit
+      // The next edge: s->v counter-clockwise, v->s clockwise.
+      const double2 pv = load_site(g.points, v);
+      pa = phase == ccw ? ps : pv;
+      pb = phase == ccw ? pv : ps;
+      best = -1;
+      best_p = ps;
+      visited = {kNone, kNone, -kNone, -kNone};
+      bounds.apex = true;
+      bounds.disc = false;
+      bounds.a = pa;
+      bounds.b = pb;
+      // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
+      // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
+      const double bax = pb.x - pa.x, bay = pb.y - pa.y;
+      const double lean = 0.5 * g.first_offset;
+      const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
+      const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
+      target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
+      // A long edge (its box over kLongEdgeCells cells) along the side of a grid of equal cells
+      // first scans the cells along it: such an edge runs beside a straight hull side, where the
+      // empty circle is a sliver along the edge, and the guess's box, as wide as the edge is
+      // long, held thousands of sites inside the hull. (Quantile cells' outer rows hold a
+      // clustered input's sparse tails, whose long edges are no slivers.)
+      if (Strips && g.strips.ids && !g.xb && box_cells(target) > kLongEdgeCells) {
+        const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
+        if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
+      }
+      begin_target();
+      big_scan = box_cells(target) > kBigScanCells;
     }
-    return phase < done;
-  }
-
-  // The apex_search of the next edge: s->v counter-clockwise, v->s clockwise.
-  EXPANSE_DEVICE_FORCE void begin_apex_search() {
-    const double2 pv = load_site(g.points, v);
-    pa = phase == ccw ? ps : pv;
-    pb = phase == ccw ? pv : ps;
-    best = -1;
-    best_p = ps;
-    visited = {kNone, kNone, -kNone, -kNone};
-    bounds.apex = true;
-    bounds.disc = false;
-    bounds.a = pa;
-    bounds.b = pb;
-    // First box: a guess at where the empty circle lies, half-width first_reach |ab|_1 / 2
-    // around the point first_offset |ab| / 2 left of the midpoint (any box is correct).
-    const double bax = pb.x - pa.x, bay = pb.y - pa.y;
-    const double lean = 0.5 * g.first_offset;
-    const double cx = 0.5 * (pa.x + pb.x) - lean * bay, cy = 0.5 * (pa.y + pb.y) + lean * bax;
-    const double r = 0.5 * g.first_reach * (fabs(bax) + fabs(bay));
-    target = cells_of(g, cx - r, cy - r, cx + r, cy + r);
-    // A long edge (its box over kLongEdgeCells cells) along the side of a grid of equal cells
-    // first scans the cells along it: such an edge runs beside a straight hull side, where the
-    // empty circle is a sliver along the edge, and the guess's box, as wide as the edge is
-    // long, held thousands of sites inside the hull. (Quantile cells' outer rows hold a
-    // clustered input's sparse tails, whose long edges are no slivers.)
-    if (Strips && g.strips.ids && !g.xb && box_cells(target) > kLongEdgeCells) {
-      const CellBox along = cells_of(g, fmin(pa.x, pb.x), fmin(pa.y, pb.y), fmax(pa.x, pb.x), fmax(pa.y, pb.y));
-      if (along.x1 <= 1 || along.y1 <= 1 || along.x0 >= g.gx - 2 || along.y0 >= g.gy - 2) target = along;
+    if (work > budget) {
+      reason = DeferReason::undecided;
+      phase = deferred;
     }
-    begin_target();
-    big_scan = box_cells(target) > kBigScanCells;
-  }
+    if (phase >= done) break;
 
-  // Searches, step after step, until the walk is over, the budget is spent, or a candidate is
-  // left to decide_exactly (`pending`).
-  EXPANSE_DEVICE_FORCE void search() {
-    for (;;) {
-      scan_box();
-      if (work > budget || pending >= 0) return;
-      const Planned next = plan_next_box();
-      if (next == Planned::nothing) return;
-      if (next == Planned::box) continue;
-      if (!take_step()) return;
-      begin_apex_search();
-    }
-  }
-
-  // The pending candidate decided exactly, and the scan resumed after it. False: the walk ends
-  // here (the first pass hands the site on; or the device cannot decide).
-  EXPANSE_DEVICE_FORCE bool decide_pending() {
+    // Decide the pending candidate exactly, then resume the scan after it.
     if constexpr (FirstPass) {
       w.handed_on = true;
       reason = DeferReason::undecided;
-      return false;
+      break;
     }
     const int ip = pending;
     const int verdict = decide_exactly(g.points, phase == nearest, i, phase == cw ? v : i, phase == cw ? i : v, best, ip);
     if (verdict == 2) {
       reason = DeferReason::undecided;
-      return false;
+      break;
     }
     if (verdict == 1) {
       best = ip;
@@ -960,33 +885,12 @@ struct BoxWalk {
     }
     slot = ((Strips && strip >= 0) || scanning_across()) ? slot + 1 : static_cast<std::uint32_t>(ip) + 1;
     pending = -1;
-    return true;
   }
-
-  EXPANSE_DEVICE_FORCE StarWalk run() {
-    for (;;) {  // searches, and the candidates they leave to decide_exactly
-      search();
-      if (work > budget) {
-        reason = DeferReason::undecided;
-        phase = deferred;
-      }
-      if (phase >= done) break;
-      if (!decide_pending()) break;
-    }
-    w.predicates = predicates;
-    w.work = work;
-    w.ok = phase == done;
-    w.reason = w.ok ? DeferReason::none : reason;
-    return w;
-  }
-};
-
-/// One site's walk_star by box scans (BoxWalk).
-template <Walker By = Walker::thread, bool ExactLattice = false, bool FirstPass = false, bool ReadsInbox = false,
-          bool Strips = false, GridKind Cells = GridKind::any>
-EXPANSE_DEVICE StarWalk walk_star_boxes(const GridView& grid, const int* pred, int i, int* row, unsigned budget,
-                                        const StarInbox& inbox = {}) {
-  return BoxWalk<By, ExactLattice, FirstPass, ReadsInbox, Strips, Cells>(grid, pred, i, row, budget, inbox).run();
+  w.predicates = predicates;
+  w.work = work;
+  w.ok = phase == done;
+  w.reason = w.ok ? DeferReason::none : reason;
+  return w;
 }
 
 /// How a per-site star's searches visit the grid: rings of cells around each edge (walk_star)
