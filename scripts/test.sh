@@ -11,7 +11,4 @@ cmake --build build -j"$(nproc)"
 # to bench/out/quick/ and are quoted nowhere (docs/benchmarks.md comes from the full mode).
 bash bench/run.sh --quick --build-dir build --no-build
 cd build
-# ctest runs nproc programs at once: their OpenMP threads sleep between passes instead of
-# spinning on cores the other tests want (docs/tuning.md, host section).
-export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 ctest --output-on-failure -j"$(nproc)" --timeout 2400

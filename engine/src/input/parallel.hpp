@@ -1,6 +1,6 @@
 #pragma once
 // The host's O(n) passes (validation, Morton sort, hull filter, bucket tree, audit, output),
-// which a GPU backend otherwise waits on, run on every host thread (OpenMP): work is cut into
+// which a GPU backend otherwise waits on, run on every host thread: work is cut into
 // chunks or tasks numbered in order, so a result never depends on how many threads ran them.
 //
 // Large buffers cost more to fault in than to fill (a fresh page is zeroed by the kernel on
