@@ -12,7 +12,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -21,16 +20,12 @@
 #include <vector>
 
 #include "input/parallel.hpp"
+#include "support/timing.hpp"
 #include "support.hpp"
 
 namespace {
 
 using namespace expanse::detail;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 struct Page {
   unsigned char bytes[4096];

@@ -6,10 +6,10 @@
 #include <CGAL/version.h>
 
 #include <array>
-#include <chrono>
 #include <cstdint>
 
 #include "peers.hpp"
+#include "support/timing.hpp"
 
 namespace bench {
 namespace {
@@ -19,11 +19,8 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::int32_t, K>;
 using Fb = CGAL::Triangulation_face_base_with_info_2<std::int32_t, K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Delaunay = CGAL::Delaunay_triangulation_2<K, Tds>;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using expanse::detail::Clock;
+using expanse::detail::ms_since;
 
 }  // namespace
 

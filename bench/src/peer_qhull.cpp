@@ -4,7 +4,6 @@ extern "C" {
 }
 
 #include <array>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
@@ -12,15 +11,13 @@ extern "C" {
 #include <vector>
 
 #include "peers.hpp"
+#include "support/timing.hpp"
 
 namespace bench {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using expanse::detail::Clock;
+using expanse::detail::ms_since;
 
 // Owns one qhT so that every exit path frees Qhull's memory: a leak per repetition would bias
 // later repetitions.
